@@ -1,0 +1,16 @@
+//! penetrate: a steel projectile (axisymmetric FEM) penetrating concrete (axisymmetric SPH),
+//! coupled by the sliding-surface algorithm with artificial momentum transport
+//! (Song, Cai & Wang 2006). See `../shared/docs/physics.md` for the equations.
+//!
+//! The source tree follows the step: scene (parse, validate) → mesh → materials (pure laws) →
+//! state (structure-of-arrays, f32) → passes (`cpu/<pass>.rs`) → contact correction → output.
+
+pub mod contact;
+pub mod cpu;
+pub mod kernel;
+pub mod materials;
+pub mod mesh;
+pub mod output;
+pub mod scene;
+pub mod solver;
+pub mod state;
