@@ -1,0 +1,1 @@
+//! Projectile meshers (in progress).
