@@ -1,0 +1,460 @@
+//! Bad scene files and overrides: each must be refused with one line that names the file and the
+//! dotted key, and no input may make the loader panic.
+
+use std::path::{Path, PathBuf};
+
+use penetrate::scene::{load, parse_str, SceneError};
+
+const ORIGIN: &str = "cases/bad-scene.toml";
+
+fn smoke_text() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/smoke.toml");
+    std::fs::read_to_string(path).expect("cases/smoke.toml")
+}
+
+/// The smoke case with `from` replaced by `to` (which must occur).
+fn smoke_with(from: &str, to: &str) -> String {
+    let text = smoke_text();
+    assert!(text.contains(from), "smoke.toml has no `{from}`");
+    text.replacen(from, to, 1)
+}
+
+/// Parses `text` expecting an error; checks the one-line message names the file and every
+/// `needles` entry, and returns the error.
+fn refused(text: &str, overrides: &[&str], needles: &[&str]) -> SceneError {
+    let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let err = parse_str(text, Path::new(ORIGIN), &sets).expect_err("the scene must be refused");
+    let msg = err.to_string();
+    assert!(!msg.contains('\n'), "not one line: {msg}");
+    assert!(msg.starts_with(ORIGIN), "no file name: {msg}");
+    for needle in needles {
+        assert!(msg.contains(needle), "`{needle}` missing from: {msg}");
+    }
+    err
+}
+
+#[test]
+fn smoke_case_is_valid() {
+    parse_str(&smoke_text(), Path::new(ORIGIN), &[]).unwrap();
+}
+
+#[test]
+fn unknown_top_level_key() {
+    let text = format!("colour = \"red\"\n{}", smoke_text());
+    let err = refused(&text, &[], &["colour", "unknown key"]);
+    assert!(matches!(err, SceneError::UnknownKey { .. }));
+}
+
+#[test]
+fn unknown_nested_key() {
+    let err = refused(
+        &smoke_with("fc = 35e6", "fcc = 35e6"),
+        &[],
+        &["target.fcc", "unknown key", "fc"],
+    );
+    assert!(matches!(err, SceneError::UnknownKey { .. }));
+    refused(
+        &format!("{}\n[target.concrete]\nmu_lok = 0.1\n", smoke_text()),
+        &[],
+        &["target.concrete.mu_lok"],
+    );
+}
+
+#[test]
+fn missing_key() {
+    let err = refused(
+        &smoke_with("velocity = 300.0", ""),
+        &[],
+        &["projectile.velocity", "missing"],
+    );
+    assert!(matches!(err, SceneError::MissingKey { .. }));
+    refused(
+        &smoke_with("crh = 2.0", ""),
+        &[],
+        &["projectile.crh", "ogive"],
+    );
+}
+
+#[test]
+fn wrong_type() {
+    let err = refused(
+        &smoke_with("velocity = 300.0", "velocity = \"fast\""),
+        &[],
+        &["projectile.velocity", "\"fast\"", "number"],
+    );
+    assert!(matches!(err, SceneError::WrongType { .. }));
+    refused(
+        &smoke_with("velocity = 300.0", "velocity = [300.0]"),
+        &[],
+        &["projectile.velocity"],
+    );
+    refused(&smoke_with("[run]", "run = 5\n[runs]"), &[], &["run"]);
+}
+
+#[test]
+fn negative_size() {
+    let err = refused(
+        &smoke_with("diameter = 0.02", "diameter = -0.02"),
+        &[],
+        &["projectile.diameter = -0.02", "> 0"],
+    );
+    assert!(matches!(err, SceneError::NonPhysical { .. }));
+}
+
+#[test]
+fn lambda_outside_unit_interval() {
+    let text = format!("{}\n[contact]\nlambda = 1.5\n", smoke_text());
+    refused(&text, &[], &["contact.lambda = 1.5", "[0, 1]"]);
+}
+
+#[test]
+fn projectile_larger_than_target() {
+    refused(
+        &smoke_with("radius = 0.04", "radius = 0.012"),
+        &[],
+        &["target.radius", "larger than the target"],
+    );
+}
+
+#[test]
+fn nan_and_inf() {
+    refused(
+        &smoke_with("velocity = 300.0", "velocity = nan"),
+        &[],
+        &["projectile.velocity", "finite"],
+    );
+    refused(
+        &smoke_with("fc = 35e6", "fc = inf"),
+        &[],
+        &["target.fc", "finite"],
+    );
+    refused(
+        &smoke_with("fc = 35e6", "fc = -inf"),
+        &[],
+        &["target.fc", "finite"],
+    );
+}
+
+#[test]
+fn beyond_f32() {
+    refused(
+        &smoke_with("density = 2370.0", "density = 1e39"),
+        &[],
+        &["target.density", "f32"],
+    );
+    refused(
+        &smoke_with("density = 2370.0", "density = 1e-300"),
+        &[],
+        &["target.density", "f32"],
+    );
+}
+
+#[test]
+fn bad_override_key() {
+    let err = refused(
+        &smoke_text(),
+        &["projectile.velcity=499"],
+        &[
+            "--set projectile.velcity=499",
+            "projectile.velcity",
+            "unknown key",
+        ],
+    );
+    assert!(matches!(err, SceneError::BadOverride { .. }));
+    refused(
+        &smoke_text(),
+        &["nothing.here=1"],
+        &["nothing.here", "nothing"],
+    );
+    refused(
+        &smoke_text(),
+        &["projectile.velocity.x=1"],
+        &["projectile.velocity", "not a table"],
+    );
+    refused(&smoke_text(), &["wall.z=0"], &["wall.z", "no [wall] table"]);
+    refused(
+        &smoke_text(),
+        &["velocity"],
+        &["velocity", "key.path=value"],
+    );
+    refused(
+        &smoke_text(),
+        &["projectile..velocity=1"],
+        &["projectile..velocity"],
+    );
+}
+
+#[test]
+fn bad_override_value() {
+    let err = refused(
+        &smoke_text(),
+        &["projectile.velocity=fast"],
+        &[
+            "--set projectile.velocity=fast",
+            "projectile.velocity",
+            "number",
+        ],
+    );
+    assert!(matches!(err, SceneError::BadOverride { .. }));
+    refused(
+        &smoke_text(),
+        &["projectile.velocity=-5"],
+        &["projectile.velocity = -5", "(0, 5000]"],
+    );
+    refused(
+        &smoke_text(),
+        &["projectile.velocity=[1"],
+        &["projectile.velocity", "cannot read"],
+    );
+    refused(
+        &smoke_text(),
+        &["contact.lambda="],
+        &["contact.lambda", "no value"],
+    );
+}
+
+#[test]
+fn empty_file() {
+    let err = refused("", &[], &["run", "missing", "[run]"]);
+    assert!(matches!(err, SceneError::MissingKey { .. }));
+    refused("# only a comment\n", &[], &["run"]);
+}
+
+#[test]
+fn syntax_error() {
+    let err = refused(
+        &smoke_with("velocity = 300.0", "velocity = 300..0"),
+        &[],
+        &["velocity = 300..0", "line 14", "syntax"],
+    );
+    assert!(matches!(err, SceneError::Syntax { .. }));
+    refused(
+        &smoke_with("velocity = 300.0", "velocity = 300.0\nvelocity = 200.0"),
+        &[],
+        &["velocity", "duplicate"],
+    );
+}
+
+#[test]
+fn both_target_and_wall() {
+    let err = refused(
+        &format!("{}\n[wall]\nz = 0.0\n", smoke_text()),
+        &[],
+        &["target, wall", "exactly one"],
+    );
+    assert!(matches!(err, SceneError::Conflict { .. }));
+}
+
+#[test]
+fn neither_target_nor_wall() {
+    let text = smoke_text();
+    let without_target = &text[..text.find("[target]").unwrap()];
+    refused(without_target, &[], &["target, wall", "needs one"]);
+}
+
+#[test]
+fn cavity_too_big() {
+    let wide = format!(
+        "{}\n[projectile.cavity]\ndiameter = 0.018\nlength = 0.02\nrear_wall = 0.005\n",
+        smoke_text()
+    );
+    refused(
+        &wide,
+        &[],
+        &["projectile.cavity.diameter = 0.018", "narrower"],
+    );
+    let long = format!(
+        "{}\n[projectile.cavity]\ndiameter = 0.01\nlength = 0.03\nrear_wall = 0.005\n",
+        smoke_text()
+    );
+    refused(&long, &[], &["projectile.cavity.length = 0.03", "shorter"]);
+    let partial = format!("{}\n[projectile.cavity]\ndiameter = 0.01\n", smoke_text());
+    refused(&partial, &[], &["projectile.cavity.length", "missing"]);
+}
+
+#[test]
+fn bad_choices_and_conflicting_keys() {
+    let err = refused(
+        &smoke_with("shape = \"ogive\"", "shape = \"sphere\""),
+        &[],
+        &["projectile.shape = \"sphere\"", "\"ogive\", \"cylinder\""],
+    );
+    assert!(matches!(err, SceneError::BadChoice { .. }));
+    refused(
+        &smoke_text(),
+        &["run.backend=tpu"],
+        &["run.backend", "\"auto\""],
+    );
+    refused(
+        &smoke_text(),
+        &["projectile.material.preset=mild-steel"],
+        &["projectile.material.preset", "4340-rc45"],
+    );
+    refused(
+        &smoke_with("shape = \"ogive\"", "shape = \"cylinder\""),
+        &[],
+        &["projectile.crh", "cylinder has no crh"],
+    );
+}
+
+#[test]
+fn copper_damage_needs_constants() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-copper-190.toml");
+    let err = load(&path, &["projectile.material.damage=true".into()]).unwrap_err();
+    let msg = err.to_string();
+    assert!(msg.contains("taylor-copper-190.toml"), "{msg}");
+    assert!(msg.contains("projectile.material.d1"), "{msg}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace(
+        "preset = \"copper-ofhc\"",
+        "preset = \"copper-ofhc\"\ndamage = true\nd2 = 4.89",
+    );
+    refused(&text, &[], &["projectile.material.d1", "damage = true"]);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace(
+        "preset = \"copper-ofhc\"",
+        "preset = \"copper-ofhc\"\nd1 = 0.5",
+    );
+    refused(&text, &[], &["projectile.material.d1", "damage = true"]);
+}
+
+#[test]
+fn concrete_constants_are_checked() {
+    let text = format!("{}\n[target.concrete]\nmu_lock = 1e-4\n", smoke_text());
+    refused(&text, &[], &["target.concrete.mu_lock", "mu_crush"]);
+    refused(
+        &smoke_with("fc = 35e6", "fc = 2e6"),
+        &[],
+        &["target.fc = 2e6", "[5e6, 200e6]"],
+    );
+    refused(
+        &smoke_text(),
+        &["projectile.material.poisson_ratio=0.5"],
+        &["projectile.material.poisson_ratio", "(0, 0.5)"],
+    );
+}
+
+#[test]
+fn unreadable_paths() {
+    let missing = Path::new("cases/does-not-exist.toml");
+    let msg = load(missing, &[]).unwrap_err().to_string();
+    assert!(msg.starts_with("cases/does-not-exist.toml: "), "{msg}");
+    assert!(!msg.contains('\n'));
+
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let msg = load(&dir, &[]).unwrap_err().to_string();
+    assert!(msg.contains("cases"), "{msg}");
+
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("not-utf8.toml");
+    std::fs::write(&tmp, b"name = \"\xff\xfe\"\n").unwrap();
+    let msg = load(&tmp, &[]).unwrap_err().to_string();
+    assert!(
+        msg.contains("not-utf8.toml") && msg.contains("UTF-8"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn deep_nesting_is_refused() {
+    let deep = vec!["a"; 10_000].join(".");
+    refused(&format!("[{deep}]\nx = 1\n"), &[], &["recursion limit"]);
+    refused(
+        &format!("x = {}{}\n", "[".repeat(10_000), "]".repeat(10_000)),
+        &[],
+        &["line 1"],
+    );
+    refused(&smoke_text(), &[&format!("{deep}=1")], &["too many parts"]);
+}
+
+/// xorshift64: deterministic pseudo-random numbers without a dependency.
+struct XorShift(u64);
+
+impl XorShift {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+/// A few hundred random mutations of the smoke case never make the loader panic, and every
+/// refusal is one line naming the file.
+#[test]
+fn mutations_never_panic() {
+    const EXTREMES: [&str; 16] = [
+        "-1e300",
+        "0",
+        "1e-300",
+        "\"x\"",
+        "x",
+        "1e39",
+        "-0.0",
+        "nan",
+        "inf",
+        "-1",
+        "true",
+        "9223372036854775807",
+        "1e-45",
+        "[]",
+        "{}",
+        "0.5",
+    ];
+    let base: Vec<String> = smoke_text().lines().map(str::to_string).collect();
+    let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
+    let mut refusals = 0;
+    for _ in 0..400 {
+        let mut lines = base.clone();
+        let mut overrides = Vec::new();
+        for _ in 0..1 + rng.below(3) {
+            let i = rng.below(lines.len());
+            match rng.below(5) {
+                0 => {
+                    lines.remove(i);
+                }
+                1 | 2 => {
+                    if let Some((key, _)) = lines[i].split_once('=') {
+                        let value = EXTREMES[rng.below(EXTREMES.len())];
+                        lines[i] = format!("{key}= {value}");
+                    }
+                }
+                3 => {
+                    let line = lines[i].clone();
+                    let cut = rng.below(line.len() + 1);
+                    let cut = (0..=cut).rev().find(|&c| line.is_char_boundary(c)).unwrap();
+                    lines[i] = line[..cut].to_string();
+                }
+                _ => {
+                    let keys = [
+                        "projectile.velocity",
+                        "target.spacing",
+                        "contact.lambda",
+                        "projectile.material.jc_n",
+                        "target.concrete.p_lock",
+                        "run.max_steps",
+                        "projectile.cavity.length",
+                    ];
+                    let key = keys[rng.below(keys.len())];
+                    let value = EXTREMES[rng.below(EXTREMES.len())];
+                    overrides.push(format!("{key}={value}"));
+                }
+            }
+        }
+        let text = lines.join("\n");
+        let outcome = std::panic::catch_unwind(|| parse_str(&text, Path::new(ORIGIN), &overrides));
+        let result = outcome.unwrap_or_else(|_| panic!("panicked on\n{text}\n{overrides:?}"));
+        if let Err(e) = result {
+            refusals += 1;
+            let msg = e.to_string();
+            assert!(msg.starts_with(ORIGIN) && !msg.contains('\n'), "{msg}");
+        }
+    }
+    assert!(
+        refusals > 100,
+        "the mutations should mostly be refused ({refusals})"
+    );
+}
