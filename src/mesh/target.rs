@@ -1,1 +1,123 @@
-//! Target lattice (in progress).
+//! SPH target lattice (physics.md §3): a square lattice of spacing Δ filling the concrete
+//! cylinder r ∈ [0, R], z ∈ [−T, 0]. Particles sit at cell centres, so the first column is at
+//! r = Δ/2 and no particle lies on the axis (the axis is handled by mirror ghosts).
+
+use std::f64::consts::PI;
+
+use super::{MeshError, TargetLattice};
+
+/// (columns, rows) of the lattice `lattice` would build: round(radius/Δ), round(thickness/Δ).
+/// Allocates nothing, so memory can be estimated up front; non-finite or non-positive input
+/// gives 0 (or saturates) and `lattice` rejects it.
+pub fn lattice_count(radius: f64, thickness: f64, spacing: f64) -> (usize, usize) {
+    (
+        (radius / spacing).round() as usize,
+        (thickness / spacing).round() as usize,
+    )
+}
+
+/// Target particles at r = (i + ½)Δ, z = −(k + ½)Δ, ordered row by row (k outer, i inner), with
+/// ring mass ρ₀ · 2π r Δ² (physics.md §3). `rear` marks the last row, `lateral` the last column.
+pub fn lattice(
+    radius: f64,
+    thickness: f64,
+    spacing: f64,
+    density: f64,
+) -> Result<TargetLattice, MeshError> {
+    for (name, value) in [
+        ("radius", radius),
+        ("thickness", thickness),
+        ("spacing", spacing),
+        ("density", density),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(MeshError(format!(
+                "target {name} must be a positive finite number, got {value}"
+            )));
+        }
+    }
+    let (cols, rows) = lattice_count(radius, thickness, spacing);
+    if cols < 2 || rows < 2 {
+        return Err(MeshError(format!(
+            "target lattice of {cols} columns × {rows} rows is too small: radius and \
+             thickness must each hold at least 2 particle spacings; make spacing smaller"
+        )));
+    }
+    let n = cols * rows;
+    let mut t = TargetLattice {
+        r: Vec::with_capacity(n),
+        z: Vec::with_capacity(n),
+        mass: Vec::with_capacity(n),
+        rear: Vec::with_capacity(n),
+        lateral: Vec::with_capacity(n),
+    };
+    for k in 0..rows {
+        let z = -(k as f64 + 0.5) * spacing;
+        for i in 0..cols {
+            let r = (i as f64 + 0.5) * spacing;
+            t.r.push(r as f32);
+            t.z.push(z as f32);
+            t.mass
+                .push((density * 2.0 * PI * r * spacing * spacing) as f32);
+            t.rear.push(k + 1 == rows);
+            t.lateral.push(i + 1 == cols);
+        }
+    }
+    Ok(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_positions_and_flags() {
+        let d = 0.01;
+        assert_eq!(lattice_count(0.1, 0.05, d), (10, 5));
+        // round(): 0.104 / 0.01 → 10, 0.056 / 0.01 → 6.
+        assert_eq!(lattice_count(0.104, 0.056, d), (10, 6));
+        let t = lattice(0.1, 0.05, d, 2370.0).unwrap();
+        assert_eq!(t.r.len(), 50);
+        assert_eq!(t.mass.len(), 50);
+        assert_eq!((t.r[0], t.z[0]), ((0.5 * d) as f32, (-0.5 * d) as f32));
+        // Row by row: particle 1 is the next column of the first row.
+        assert_eq!((t.r[1], t.z[1]), ((1.5 * d) as f32, (-0.5 * d) as f32));
+        assert_eq!((t.r[10], t.z[10]), ((0.5 * d) as f32, (-1.5 * d) as f32));
+        assert!(t.r.iter().all(|&r| r > 0.0));
+        for p in 0..50 {
+            assert_eq!(t.rear[p], p >= 40, "rear flag of {p}");
+            assert_eq!(t.lateral[p], p % 10 == 9, "lateral flag of {p}");
+        }
+        let last = 49;
+        assert_eq!(
+            (t.r[last], t.z[last]),
+            ((9.5 * d) as f32, (-4.5 * d) as f32)
+        );
+        let m0 = 2370.0 * 2.0 * PI * 0.5 * d * d * d;
+        assert!(((t.mass[0] as f64 - m0) / m0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn total_mass_is_the_cylinder_mass() {
+        let (radius, thickness, d, rho) = (0.75, 0.5, 0.0025, 2370.0);
+        let t = lattice(radius, thickness, d, rho).unwrap();
+        let (cols, rows) = lattice_count(radius, thickness, d);
+        assert_eq!((cols, rows), (300, 200));
+        assert_eq!(t.r.len(), cols * rows);
+        let total: f64 = t.mass.iter().map(|&m| m as f64).sum();
+        let exact = rho * PI * radius * radius * thickness;
+        assert!(((total - exact) / exact).abs() < 0.01, "{total} vs {exact}");
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        assert!(lattice(0.1, 0.05, 0.0, 2370.0).is_err());
+        assert!(lattice(0.1, f64::INFINITY, 0.01, 2370.0).is_err());
+        assert!(lattice(-0.1, 0.05, 0.01, 2370.0).is_err());
+        assert!(lattice(0.1, 0.05, 0.01, f64::NAN).is_err());
+        // One row only.
+        assert!(lattice(0.1, 0.012, 0.01, 2370.0).is_err());
+        assert!(lattice(0.014, 0.1, 0.01, 2370.0).is_err());
+        assert_eq!(lattice_count(f64::NAN, 0.1, 0.01).0, 0);
+    }
+}
