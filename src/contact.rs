@@ -1,1 +1,446 @@
-//! (in progress)
+//! Sliding-surface correction with artificial momentum transport (physics.md §4, paper §3),
+//! applied on the CPU for every hit of the step, one after another in slave order.
+//!
+//! For a slave S inside the master triangle of segment AB (outward normal n), S moves to its
+//! foot S'' on AB, weights w_A = |BS''|/|AB|, w_B = |AS''|/|AB|, and with normal velocities
+//! Δ = w_A v_A + w_B v_B − v_S (closing when Δ > 0):
+//!
+//! ```text
+//! δ = Δ / [1 + λ m_S (w_A²/m_A + w_B²/m_B) + (1 − λ) m_S n_z² / M]
+//! v_S += δ n,  v_A −= λ δ m_S w_A/m_A n,  v_B −= λ δ m_S w_B/m_B n,
+//! every node: v_z −= (1 − λ) δ m_S n_z / M
+//! ```
+//!
+//! Why n_z² and a global shift along z only (physics.md writes the planar form, m_S/M along n):
+//! the masses are whole rings, and a ring's radial impulse sums to zero around the ring, so the
+//! projectile as a whole can only take the axial part n_z of the impulse; a uniform radial
+//! velocity added to every node would be a hoop strain, not a rigid motion, and would move the
+//! axis nodes off the axis. With n_z² the three equations (5), (6)+(7) and (11)+(12) hold exactly
+//! together: z-momentum is conserved to round-off, the relative normal velocity after the hit is
+//! zero, and λ = 0 moves the projectile rigidly (zero strain). Where n is axial (n_z = ±1) this
+//! is the planar formula of physics.md to the letter.
+
+use crate::mesh::MasterSegment;
+
+/// A slave particle found inside a master triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Hit {
+    pub slave: u32,
+    pub master: u32,
+}
+
+/// The velocities and positions the correction reads and writes.
+pub struct ContactBodies<'a> {
+    pub slave_r: &'a mut [f32],
+    pub slave_z: &'a mut [f32],
+    pub slave_vr: &'a mut [f32],
+    pub slave_vz: &'a mut [f32],
+    pub slave_mass: &'a [f32],
+    pub node_r: &'a [f32],
+    pub node_z: &'a [f32],
+    pub node_vr: &'a mut [f32],
+    pub node_vz: &'a mut [f32],
+    pub node_mass: &'a [f32],
+    pub node_on_axis: &'a [u32],
+}
+
+/// What one step's corrections did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CorrectionStats {
+    /// Kinetic energy lost in the inelastic normal collisions (J, ≥ 0 up to round-off).
+    pub dissipated: f64,
+    /// Hits that were closing (velocity corrected).
+    pub closing: usize,
+    /// Deepest slave penetration found before correction (m).
+    pub max_penetration: f32,
+    /// Global velocity shift added to every node along z (m/s).
+    pub global_shift: f32,
+}
+
+/// Apply every hit in order (the caller passes them sorted by slave index).
+pub fn correct(
+    hits: &[Hit],
+    masters: &[MasterSegment],
+    b: &mut ContactBodies,
+    lambda: f32,
+    total_mass: f64,
+) -> CorrectionStats {
+    let mut stats = CorrectionStats::default();
+    if hits.is_empty() {
+        return stats;
+    }
+    let m_total = total_mass as f32;
+    // Running global shift along z: node i's velocity is (vr, vz + shift) until it is applied.
+    let mut shift = 0.0f32;
+    // Projectile z-momentum with the shift included (f64: it is a sum over all nodes).
+    let mut p_z: f64 = (0..b.node_mass.len())
+        .map(|i| b.node_mass[i] as f64 * b.node_vz[i] as f64)
+        .sum();
+    let ke =
+        |m: f32, vr: f32, vz: f32| 0.5 * m as f64 * ((vr as f64).powi(2) + (vz as f64).powi(2));
+    for hit in hits {
+        let seg = masters[hit.master as usize];
+        let (a, bn, s) = (seg.a as usize, seg.b as usize, hit.slave as usize);
+        let (ar, az, br, bz) = (b.node_r[a], b.node_z[a], b.node_r[bn], b.node_z[bn]);
+        let (er, ez) = (br - ar, bz - az);
+        let len2 = er * er + ez * ez;
+        let len = len2.sqrt();
+        let n = [ez / len, -er / len];
+        let t = (((b.slave_r[s] - ar) * er + (b.slave_z[s] - az) * ez) / len2).clamp(0.0, 1.0);
+        let (foot_r, foot_z) = (ar + t * er, az + t * ez);
+        let depth = (foot_r - b.slave_r[s]) * n[0] + (foot_z - b.slave_z[s]) * n[1];
+        stats.max_penetration = stats.max_penetration.max(depth);
+        b.slave_r[s] = foot_r;
+        b.slave_z[s] = foot_z;
+
+        let (w_a, w_b) = (1.0 - t, t);
+        let v_a = [b.node_vr[a], b.node_vz[a] + shift];
+        let v_b = [b.node_vr[bn], b.node_vz[bn] + shift];
+        let v_s = [b.slave_vr[s], b.slave_vz[s]];
+        let dot = |v: [f32; 2]| v[0] * n[0] + v[1] * n[1];
+        let closing = w_a * dot(v_a) + w_b * dot(v_b) - dot(v_s);
+        if !(closing > 0.0) {
+            continue;
+        }
+        stats.closing += 1;
+        let (m_s, m_a, m_b) = (b.slave_mass[s], b.node_mass[a], b.node_mass[bn]);
+        let denom = 1.0
+            + lambda * m_s * (w_a * w_a / m_a + w_b * w_b / m_b)
+            + (1.0 - lambda) * m_s * n[1] * n[1] / m_total;
+        let delta = closing / denom;
+
+        let mut d_ke = -ke(m_s, v_s[0], v_s[1]);
+        b.slave_vr[s] += delta * n[0];
+        b.slave_vz[s] += delta * n[1];
+        d_ke += ke(m_s, b.slave_vr[s], b.slave_vz[s]);
+
+        for (node, w, m) in [(a, w_a, m_a), (bn, w_b, m_b)] {
+            let dv = -lambda * delta * m_s * w / m;
+            let before = [b.node_vr[node], b.node_vz[node] + shift];
+            // Axis nodes keep ṙ = 0: they take only the axial part.
+            if b.node_on_axis[node] == 0 {
+                b.node_vr[node] += dv * n[0];
+            }
+            b.node_vz[node] += dv * n[1];
+            let after = [b.node_vr[node], b.node_vz[node] + shift];
+            d_ke += ke(m, after[0], after[1]) - ke(m, before[0], before[1]);
+            p_z += m as f64 * (after[1] - before[1]) as f64;
+        }
+
+        let g = -(1.0 - lambda) * delta * m_s * n[1] / m_total;
+        d_ke += g as f64 * p_z + 0.5 * total_mass * (g as f64).powi(2);
+        p_z += total_mass * g as f64;
+        shift += g;
+        stats.dissipated -= d_ke;
+    }
+    if shift != 0.0 {
+        for v in b.node_vz.iter_mut() {
+            *v += shift;
+        }
+    }
+    stats.global_shift = shift;
+    stats
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A projectile of `extra` free nodes plus the segment A(0) → B(1) with outward normal n,
+    /// and one slave just inside it. Returns (slave arrays, node arrays).
+    struct Setup {
+        sr: Vec<f32>,
+        sz: Vec<f32>,
+        svr: Vec<f32>,
+        svz: Vec<f32>,
+        sm: Vec<f32>,
+        nr: Vec<f32>,
+        nz: Vec<f32>,
+        nvr: Vec<f32>,
+        nvz: Vec<f32>,
+        nm: Vec<f32>,
+        axis: Vec<u32>,
+    }
+
+    impl Setup {
+        /// Segment from A to B; the slave sits at fraction `t` along it, `depth` inside.
+        fn new(a: [f32; 2], b: [f32; 2], t: f32, depth: f32) -> Setup {
+            let (er, ez) = (b[0] - a[0], b[1] - a[1]);
+            let len = er.hypot(ez);
+            let n = [ez / len, -er / len];
+            let s = [a[0] + t * er - depth * n[0], a[1] + t * ez - depth * n[1]];
+            Setup {
+                sr: vec![s[0]],
+                sz: vec![s[1]],
+                svr: vec![5.0],
+                svz: vec![20.0],
+                sm: vec![0.01],
+                nr: vec![a[0], b[0], 0.0, 0.01],
+                nz: vec![a[1], b[1], 0.05, 0.05],
+                nvr: vec![1.0, -2.0, 0.0, 0.5],
+                nvz: vec![-300.0, -310.0, -305.0, -300.0],
+                nm: vec![0.02, 0.03, 0.5, 0.35],
+                axis: vec![0, 0, 1, 0],
+            }
+        }
+
+        fn bodies(&mut self) -> ContactBodies<'_> {
+            ContactBodies {
+                slave_r: &mut self.sr,
+                slave_z: &mut self.sz,
+                slave_vr: &mut self.svr,
+                slave_vz: &mut self.svz,
+                slave_mass: &self.sm,
+                node_r: &self.nr,
+                node_z: &self.nz,
+                node_vr: &mut self.nvr,
+                node_vz: &mut self.nvz,
+                node_mass: &self.nm,
+                node_on_axis: &self.axis,
+            }
+        }
+
+        fn total_mass(&self) -> f64 {
+            self.nm.iter().map(|&m| m as f64).sum()
+        }
+
+        fn momentum(&self) -> [f64; 2] {
+            let mut p = [
+                self.sm[0] as f64 * self.svr[0] as f64,
+                self.sm[0] as f64 * self.svz[0] as f64,
+            ];
+            for i in 0..self.nm.len() {
+                p[0] += self.nm[i] as f64 * self.nvr[i] as f64;
+                p[1] += self.nm[i] as f64 * self.nvz[i] as f64;
+            }
+            p
+        }
+
+        fn kinetic(&self) -> f64 {
+            let mut e = 0.5
+                * self.sm[0] as f64
+                * ((self.svr[0] as f64).powi(2) + (self.svz[0] as f64).powi(2));
+            for i in 0..self.nm.len() {
+                e += 0.5
+                    * self.nm[i] as f64
+                    * ((self.nvr[i] as f64).powi(2) + (self.nvz[i] as f64).powi(2));
+            }
+            e
+        }
+    }
+
+    const SEG: MasterSegment = MasterSegment {
+        element: 0,
+        a: 0,
+        b: 1,
+        c: 2,
+    };
+
+    /// Relative normal velocity w_A v_A + w_B v_B − v_S after the correction.
+    fn relative_normal(s: &Setup, t: f32) -> f32 {
+        let (er, ez) = (s.nr[1] - s.nr[0], s.nz[1] - s.nz[0]);
+        let len = er.hypot(ez);
+        let n = [ez / len, -er / len];
+        let dot = |vr: f32, vz: f32| vr * n[0] + vz * n[1];
+        (1.0 - t) * dot(s.nvr[0], s.nvz[0]) + t * dot(s.nvr[1], s.nvz[1]) - dot(s.svr[0], s.svz[0])
+    }
+
+    /// One hit on an inclined segment: z-momentum conserved to f32 round-off, eq. (5) holds after
+    /// the global shift, the slave ends on the segment, and energy is lost, not made.
+    #[test]
+    fn one_hit_conserves_axial_momentum_and_closes_the_gap() {
+        for lambda in [0.0f32, 0.2, 0.5, 1.0] {
+            let (a, b) = ([0.001, -0.008], [0.004, -0.002]);
+            let t = 0.3;
+            let mut s = Setup::new(a, b, t, 1e-4);
+            let p0 = s.momentum();
+            let e0 = s.kinetic();
+            let m = s.total_mass();
+            let stats = correct(
+                &[Hit {
+                    slave: 0,
+                    master: 0,
+                }],
+                &[SEG],
+                &mut s.bodies(),
+                lambda,
+                m,
+            );
+            let p1 = s.momentum();
+            let scale = 0.5 * 310.0;
+            assert!(
+                (p1[1] - p0[1]).abs() < 1e-6 * scale,
+                "λ {lambda}: p_z {} → {}",
+                p0[1],
+                p1[1]
+            );
+            assert!(
+                relative_normal(&s, t).abs() < 1e-3,
+                "λ {lambda}: eq. (5) residual {}",
+                relative_normal(&s, t)
+            );
+            let foot = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            assert!((s.sr[0] - foot[0]).abs() < 1e-7 && (s.sz[0] - foot[1]).abs() < 1e-7);
+            assert_eq!(stats.closing, 1);
+            assert!(stats.dissipated > 0.0);
+            assert!(
+                ((e0 - s.kinetic()) - stats.dissipated).abs() < 1e-6 * e0,
+                "energy account"
+            );
+            assert!((stats.max_penetration - 1e-4).abs() < 1e-6);
+        }
+    }
+
+    /// On an axial normal (flat face, n = −z) momentum along n is conserved exactly as in the
+    /// planar formula of physics.md §4.
+    #[test]
+    fn flat_face_conserves_momentum_along_the_normal() {
+        // A → B along +r: outward normal (Δz, −Δr)/|AB| = (0, −1), a flat nose face.
+        let mut s = Setup::new([0.001, -0.002], [0.004, -0.002], 0.5, 1e-4);
+        let p0 = s.momentum();
+        let m = s.total_mass();
+        correct(
+            &[Hit {
+                slave: 0,
+                master: 0,
+            }],
+            &[SEG],
+            &mut s.bodies(),
+            0.2,
+            m,
+        );
+        let p1 = s.momentum();
+        assert!((p1[1] - p0[1]).abs() < 1e-6 * 300.0);
+        assert!(
+            (p1[0] - p0[0]).abs() < 1e-9,
+            "no radial exchange on a flat face"
+        );
+    }
+
+    /// λ = 0: a perfectly inelastic normal collision of the slave with the whole rigid projectile:
+    /// every node gets the same velocity change, along z only, and the slave's normal velocity
+    /// ends equal to the projectile's.
+    #[test]
+    fn lambda_zero_is_a_rigid_inelastic_collision() {
+        let (a, b) = ([0.001, -0.008], [0.004, -0.002]);
+        let mut s = Setup::new(a, b, 0.6, 1e-4);
+        let before_r = s.nvr.clone();
+        let before_z = s.nvz.clone();
+        let m = s.total_mass();
+        let ms = s.sm[0] as f64;
+        let stats = correct(
+            &[Hit {
+                slave: 0,
+                master: 0,
+            }],
+            &[SEG],
+            &mut s.bodies(),
+            0.0,
+            m,
+        );
+        assert_eq!(
+            s.nvr, before_r,
+            "no radial change: the projectile moves rigidly"
+        );
+        let dv: Vec<f32> = (0..4).map(|i| s.nvz[i] - before_z[i]).collect();
+        for d in &dv {
+            assert!(
+                (d - dv[0]).abs() < 1e-4 * dv[0].abs(),
+                "uniform shift {dv:?}"
+            );
+        }
+        // Closed form: Δ = n_z V_z − v_S·n (V_z the common axial speed along the normal),
+        // δ = Δ/(1 + m_S n_z²/M), ΔV_z = −δ m_S n_z /M.
+        let (er, ez) = (b[0] - a[0], b[1] - a[1]);
+        let len = (er as f64).hypot(ez as f64);
+        let n = [ez as f64 / len, -er as f64 / len];
+        let setup = Setup::new(a, b, 0.6, 1e-4);
+        let w = [0.4f64, 0.6];
+        let vn = |vr: f32, vz: f32| vr as f64 * n[0] + vz as f64 * n[1];
+        let closing = w[0] * vn(setup.nvr[0], setup.nvz[0]) + w[1] * vn(setup.nvr[1], setup.nvz[1])
+            - vn(setup.svr[0], setup.svz[0]);
+        let delta = closing / (1.0 + ms * n[1] * n[1] / m);
+        let expected = -delta * ms * n[1] / m;
+        assert!(
+            (dv[0] as f64 - expected).abs() < 1e-4 * expected.abs(),
+            "{} vs {expected}",
+            dv[0]
+        );
+        assert!((stats.global_shift as f64 - expected).abs() < 1e-4 * expected.abs());
+    }
+
+    /// λ = 1 reproduces the paper's eq. (9)-(10) and leaves the other nodes alone.
+    #[test]
+    fn lambda_one_is_paper_eq_9_10() {
+        let (a, b) = ([0.001, -0.008], [0.004, -0.002]);
+        let t = 0.25f64;
+        let mut s = Setup::new(a, b, t as f32, 1e-4);
+        let before = Setup::new(a, b, t as f32, 1e-4);
+        let m = s.total_mass();
+        correct(
+            &[Hit {
+                slave: 0,
+                master: 0,
+            }],
+            &[SEG],
+            &mut s.bodies(),
+            1.0,
+            m,
+        );
+        let (er, ez) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
+        let len = er.hypot(ez);
+        let n = [ez / len, -er / len];
+        let vn = |vr: f32, vz: f32| vr as f64 * n[0] + vz as f64 * n[1];
+        let (l_bs, l_as, l_ab) = ((1.0 - t) * len, t * len, len);
+        let (ms, ma, mb) = (
+            before.sm[0] as f64,
+            before.nm[0] as f64,
+            before.nm[1] as f64,
+        );
+        let (va, vb, vs) = (
+            vn(before.nvr[0], before.nvz[0]),
+            vn(before.nvr[1], before.nvz[1]),
+            vn(before.svr[0], before.svz[0]),
+        );
+        let frac = ((l_bs * va + l_as * vb) / l_ab - vs)
+            / (1.0 + ms * (l_bs * l_bs / ma + l_as * l_as / mb) / (l_ab * l_ab));
+        let va_new = va - frac * ms / ma * l_bs / l_ab; // eq. (9)
+        let vb_new = vb - frac * ms / mb * l_as / l_ab; // eq. (10)
+        assert!(
+            (vn(s.nvr[0], s.nvz[0]) - va_new).abs() < 1e-3,
+            "{} vs {va_new}",
+            vn(s.nvr[0], s.nvz[0])
+        );
+        assert!((vn(s.nvr[1], s.nvz[1]) - vb_new).abs() < 1e-3);
+        assert_eq!(
+            (s.nvr[2], s.nvz[2], s.nvr[3], s.nvz[3]),
+            (before.nvr[2], before.nvz[2], before.nvr[3], before.nvz[3])
+        );
+    }
+
+    /// A separating slave is only moved back to the surface.
+    #[test]
+    fn separating_slave_only_moves() {
+        let mut s = Setup::new([0.001, -0.008], [0.004, -0.002], 0.5, 1e-4);
+        // Outward normal ≈ (0.894, −0.447): this slave runs away from the surface.
+        s.svr[0] = 500.0;
+        s.svz[0] = -500.0;
+        let (vr, vz) = (s.nvr.clone(), s.nvz.clone());
+        let m = s.total_mass();
+        let stats = correct(
+            &[Hit {
+                slave: 0,
+                master: 0,
+            }],
+            &[SEG],
+            &mut s.bodies(),
+            0.2,
+            m,
+        );
+        assert_eq!(stats.closing, 0);
+        assert_eq!(
+            (s.nvr.clone(), s.nvz.clone(), s.svr[0], s.svz[0]),
+            (vr, vz, 500.0, -500.0)
+        );
+    }
+}

@@ -7,6 +7,7 @@
 
 pub mod contact;
 pub mod cpu;
+pub mod estimate;
 pub mod kernel;
 pub mod materials;
 pub mod mesh;

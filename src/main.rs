@@ -1,1 +1,176 @@
-fn main() {}
+//! `penetrate`: the command line. It parses arguments and calls the library.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use penetrate::scene::{self, Backend, Scene};
+use penetrate::solver::{self, RunOptions};
+use penetrate::{estimate, mesh};
+
+#[derive(Parser)]
+#[command(
+    name = "penetrate",
+    version,
+    about = "Steel projectile into concrete: axisymmetric FEM + SPH, sliding-surface contact"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene and write summary.json, history.csv and VTK frames.
+    Run {
+        /// Scene file (cases/*.toml).
+        case: PathBuf,
+        /// Which implementation of the step runs (overrides the scene's run.backend).
+        #[arg(long, value_enum)]
+        backend: Option<BackendArg>,
+        /// Output directory [default: runs/<scene name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Override a scene value, e.g. --set projectile.velocity=499 (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// No progress display.
+        #[arg(long)]
+        quiet: bool,
+        /// Do not write VTK frames.
+        #[arg(long)]
+        no_vtk: bool,
+    },
+    /// Validate a scene without running it: resolved values, counts, step and memory estimate.
+    Check {
+        case: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BackendArg {
+    Cpu,
+    Gpu,
+    Auto,
+}
+
+/// Exit codes: 0 the run completed; 1 it went unstable or was stopped; 2 bad input; 3 output
+/// could not be written.
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check { case, set } => match scene::load(&case, &set) {
+            Ok(s) => {
+                print!("{}", check_report(&s));
+                ExitCode::SUCCESS
+            }
+            Err(e) => fail(2, &e.to_string()),
+        },
+        Command::Run {
+            case,
+            backend,
+            out,
+            set,
+            quiet,
+            no_vtk,
+        } => {
+            let scene = match scene::load(&case, &set) {
+                Ok(s) => s,
+                Err(e) => return fail(2, &e.to_string()),
+            };
+            let backend = match backend {
+                Some(BackendArg::Cpu) => Backend::Cpu,
+                Some(BackendArg::Gpu) => Backend::Gpu,
+                Some(BackendArg::Auto) => Backend::Auto,
+                None => scene.run.backend,
+            };
+            match backend {
+                Backend::Cpu => {}
+                Backend::Gpu => {
+                    return fail(2, "--backend gpu: the GPU backend is not built yet (it is the next milestone); run with --backend cpu")
+                }
+                Backend::Auto => eprintln!("penetrate: --backend auto: no GPU backend is built yet; running on the CPU"),
+            }
+            let out = out.unwrap_or_else(|| PathBuf::from("runs").join(&scene.name));
+            let opts = RunOptions {
+                out: out.clone(),
+                quiet,
+                vtk: !no_vtk,
+            };
+            match solver::run(&scene, &opts) {
+                Ok(outcome) => {
+                    let s = &outcome.summary;
+                    println!(
+                        "{}: {} ({}) after {} steps, t = {:.1} µs, {:.1} s wall",
+                        s.scene,
+                        s.status,
+                        s.stop_reason,
+                        s.steps,
+                        s.time_s * 1e6,
+                        s.wall_s
+                    );
+                    if scene.target.is_some() {
+                        println!(
+                            "depth {:.4} m, projectile velocity {:.1} m/s",
+                            s.depth_m, s.projectile_velocity_m_s
+                        );
+                    } else {
+                        println!(
+                            "final length {:.3} mm, max radius {:.3} mm",
+                            s.final_length_m * 1e3,
+                            s.max_radius_m * 1e3
+                        );
+                    }
+                    println!(
+                        "max damage {:.3}, max plastic strain {:.3}, energy error {:.2e}, momentum error {:.2e}",
+                        s.max_damage, s.max_plastic_strain, s.energy_error, s.momentum_error
+                    );
+                    println!("outputs in {}", out.display());
+                    if outcome.ok {
+                        ExitCode::SUCCESS
+                    } else {
+                        fail(1, &s.status)
+                    }
+                }
+                Err(solver::RunError::Io(m)) => fail(3, &m),
+                Err(solver::RunError::Setup(m)) => fail(2, &format!("{}: {m}", case.display())),
+                Err(e) => fail(1, &e.to_string()),
+            }
+        }
+    }
+}
+
+fn fail(code: u8, msg: &str) -> ExitCode {
+    eprintln!("penetrate: {msg}");
+    ExitCode::from(code)
+}
+
+fn check_report(s: &Scene) -> String {
+    let mut out = s.resolved_table();
+    match mesh::projectile::build(&s.projectile) {
+        Ok(m) => {
+            let e = estimate::estimate(s, &m);
+            out += &format!(
+                "\n# projectile: {} nodes, {} elements, mass {:.4} kg (filler {:.4} kg)\n",
+                m.node_r.len(),
+                m.elements.len(),
+                m.total_mass,
+                m.filler_mass
+            );
+            out += &format!(
+                "# target: {} particles, {} slaves (approx.)\n",
+                e.particles, e.slaves
+            );
+            out += &format!(
+                "# stable step ≈ {:.3e} s (FEM {:.3e}, SPH {:.3e} at full compaction) → ≈ {} steps to end_time\n",
+                e.dt, e.dt_fem, e.dt_sph, e.steps
+            );
+            out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));
+        }
+        Err(e) => out += &format!("# projectile mesh: {e}\n"),
+    }
+    out
+}

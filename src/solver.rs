@@ -1,1 +1,646 @@
-//! (in progress)
+//! The explicit coupled step (physics.md §5) and the run loop: stop conditions, energy and
+//! momentum account, outputs.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::contact::{self, ContactBodies, Hit};
+use crate::cpu::{self, neighbours::CellGrid};
+use crate::mesh;
+use crate::output::history::{History, Row};
+use crate::output::progress::Progress;
+use crate::output::summary::{EnergySummary, Summary};
+use crate::output::vtk;
+use crate::scene::Scene;
+use crate::state::{FemParams, Particles, Projectile, SphParams};
+
+/// One pass of the step. A scene's pass list holds only what it needs (architecture.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    Integrate,
+    ContactDetect,
+    ContactCorrect,
+    Neighbours,
+    SphRates,
+    Concrete,
+    SphForces,
+    FemStress,
+    FemForces,
+}
+
+impl Pass {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Pass::Integrate => "integrate",
+            Pass::ContactDetect => "contact_detect",
+            Pass::ContactCorrect => "contact_correct",
+            Pass::Neighbours => "neighbours",
+            Pass::SphRates => "sph_rates",
+            Pass::Concrete => "concrete",
+            Pass::SphForces => "sph_forces",
+            Pass::FemStress => "fem_stress",
+            Pass::FemForces => "fem_forces",
+        }
+    }
+}
+
+/// Why a run stopped early or went wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RunError {
+    /// Bad input caught while building the model.
+    Setup(String),
+    /// The run went unstable: what, where and when.
+    Unstable(String),
+    /// Output could not be written.
+    Io(String),
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Setup(m) => write!(f, "setup: {m}"),
+            RunError::Unstable(m) => write!(f, "unstable: {m}"),
+            RunError::Io(m) => write!(f, "output: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+/// Running energy and impulse account (f64).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Account {
+    pub initial_kinetic: f64,
+    pub initial_momentum: f64,
+    pub contact_dissipated: f64,
+    pub wall_dissipated: f64,
+    /// z-impulse taken by fixed boundaries and the wall (N s).
+    pub boundary_impulse: f64,
+    pub plastic_work: f64,
+    pub max_penetration: f32,
+    pub min_dt: f64,
+    pub max_dt: f64,
+}
+
+/// The whole model and its state.
+pub struct Simulation {
+    pub scene: Scene,
+    pub particles: Particles,
+    pub sph: Option<SphParams>,
+    pub grid: CellGrid,
+    pub projectile: Projectile,
+    pub fem: FemParams,
+    /// Slave particles (preselected once, physics.md §4).
+    pub slaves: Vec<u32>,
+    pub passes: Vec<Pass>,
+    pub time: f64,
+    pub step: u64,
+    pub dt: f32,
+    pub account: Account,
+    pub last_hits: usize,
+    wall_z: Option<f32>,
+    escape: f32,
+}
+
+impl Simulation {
+    /// Build the meshes, the state and the pass list, and evaluate the first forces and Δt.
+    pub fn new(scene: &Scene) -> Result<Simulation, RunError> {
+        let spec = &scene.projectile;
+        let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
+        let projectile =
+            Projectile::from_mesh(&pmesh, spec.velocity as f32, spec.material.strength.t_room);
+        let fem = FemParams::new(&spec.material);
+        let (particles, sph) = match &scene.target {
+            Some(t) => {
+                let lattice = mesh::target::lattice(
+                    t.radius,
+                    t.thickness,
+                    t.spacing,
+                    t.concrete.density as f64,
+                )
+                .map_err(|e| RunError::Setup(e.to_string()))?;
+                (
+                    Particles::from_lattice(&lattice, t),
+                    Some(SphParams::new(t)),
+                )
+            }
+            None => (Particles::default(), None),
+        };
+        let r_max = pmesh.node_r.iter().copied().fold(0.0f32, f32::max);
+        let k = scene.contact.slave_radius_factor as f32;
+        let slaves = (0..particles.len() as u32)
+            .filter(|&i| particles.r[i as usize] <= k * r_max)
+            .collect();
+        let rigid = scene.contact.lambda == 0.0 && scene.wall.is_none();
+        let mut passes = vec![Pass::Integrate];
+        if sph.is_some() {
+            passes.extend([
+                Pass::ContactDetect,
+                Pass::ContactCorrect,
+                Pass::Neighbours,
+                Pass::SphRates,
+                Pass::Concrete,
+                Pass::SphForces,
+            ]);
+        }
+        if !rigid {
+            passes.extend([Pass::FemStress, Pass::FemForces]);
+        }
+        let extent = scene
+            .target
+            .as_ref()
+            .map_or(0.0, |t| t.radius.max(t.thickness))
+            + spec.length
+            + spec.nose_z.abs();
+        let mut sim = Simulation {
+            scene: scene.clone(),
+            particles,
+            sph,
+            grid: CellGrid::default(),
+            projectile,
+            fem,
+            slaves,
+            passes,
+            time: 0.0,
+            step: 0,
+            dt: 0.0,
+            account: Account::default(),
+            last_hits: 0,
+            wall_z: scene.wall.as_ref().map(|w| w.z as f32),
+            escape: (20.0 * extent) as f32,
+        };
+        sim.account.initial_kinetic = sim.kinetic_energy();
+        sim.account.initial_momentum = sim.momentum_z();
+        sim.account.min_dt = f64::MAX;
+        sim.forces(0.0)?;
+        sim.dt = sim.stable_dt()?;
+        Ok(sim)
+    }
+
+    fn has(&self, pass: Pass) -> bool {
+        self.passes.contains(&pass)
+    }
+
+    /// Rates, stresses and forces at the current configuration, advancing the material state by
+    /// `dt` (0 at start-up).
+    fn forces(&mut self, dt: f32) -> Result<(), RunError> {
+        if let Some(sph) = &self.sph {
+            cpu::neighbours::run(
+                &mut self.grid,
+                &self.particles.r,
+                &self.particles.z,
+                cpu::integrate::support(sph),
+            );
+            cpu::sph_rates::run(&mut self.particles, &self.grid, sph);
+            cpu::concrete::run(&mut self.particles, sph, dt);
+            cpu::sph_forces::run(&mut self.particles, &self.grid, sph);
+        }
+        if self.has(Pass::FemStress) {
+            let p = &mut self.projectile;
+            cpu::fem_stress::run(&mut p.elements, &p.nodes, &self.fem, dt).map_err(|inv| {
+                RunError::Unstable(format!(
+                    "element {} inverted at (r {:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
+                    inv.element, inv.r, inv.z, self.step, self.time
+                ))
+            })?;
+            cpu::fem_forces::run(&mut p.nodes, &p.elements);
+            self.account.plastic_work += p
+                .elements
+                .plastic_work
+                .iter()
+                .map(|&w| w as f64)
+                .sum::<f64>();
+        }
+        Ok(())
+    }
+
+    fn stable_dt(&mut self) -> Result<f32, RunError> {
+        let mut dt = f32::MAX;
+        if let Some(sph) = &self.sph {
+            dt = dt.min(cpu::integrate::particle_dt(&self.particles, sph));
+        }
+        if self.has(Pass::FemStress) {
+            dt = dt.min(cpu::integrate::element_dt(&self.projectile.elements));
+        }
+        let dt = dt * self.scene.run.cfl as f32;
+        if !(dt.is_finite() && dt > 1.0e-13) {
+            return Err(RunError::Unstable(format!(
+                "time step collapsed to {dt:e} s at step {}, t {:.4e} s",
+                self.step, self.time
+            )));
+        }
+        Ok(dt)
+    }
+
+    /// One explicit step: velocities and positions, contact, then rates, stresses and forces at
+    /// the new configuration, then the next Δt.
+    pub fn step(&mut self) -> Result<(), RunError> {
+        let dt = self.dt;
+        let blowup = |b: cpu::integrate::Blowup, step: u64, time: f64| {
+            RunError::Unstable(format!(
+                "{} {} {} at (r {:.4e}, z {:.4e}) m, step {step}, t {time:.4e} s",
+                b.what, b.index, b.reason, b.r, b.z
+            ))
+        };
+        if let Some(sph) = &self.sph {
+            // Impulse the fixed boundary takes: what its particles would have gained.
+            let p = &self.particles;
+            self.account.boundary_impulse += (0..p.len())
+                .filter(|&i| p.fixed[i] != 0)
+                .map(|i| p.mass[i] as f64 * p.az[i] as f64 * dt as f64)
+                .sum::<f64>();
+            cpu::integrate::particles(&mut self.particles, sph, dt, self.escape)
+                .map_err(|b| blowup(b, self.step, self.time))?;
+        }
+        let vz_before: f64 = self.projectile_momentum();
+        let lost = cpu::integrate::nodes(&mut self.projectile.nodes, dt, self.wall_z, self.escape)
+            .map_err(|b| blowup(b, self.step, self.time))?;
+        if self.wall_z.is_some() {
+            self.account.wall_dissipated += lost;
+            let forces: f64 = self.projectile.nodes.fz.iter().map(|&f| f as f64).sum();
+            self.account.boundary_impulse +=
+                self.projectile_momentum() - vz_before - forces * dt as f64;
+        }
+        if self.has(Pass::ContactDetect) {
+            let hits = self.detect();
+            self.last_hits = hits.len();
+            let lambda = self.scene.contact.lambda as f32;
+            let p = &mut self.particles;
+            let n = &mut self.projectile.nodes;
+            let mut bodies = ContactBodies {
+                slave_r: &mut p.r,
+                slave_z: &mut p.z,
+                slave_vr: &mut p.vr,
+                slave_vz: &mut p.vz,
+                slave_mass: &p.mass,
+                node_r: &n.r,
+                node_z: &n.z,
+                node_vr: &mut n.vr,
+                node_vz: &mut n.vz,
+                node_mass: &n.mass,
+                node_on_axis: &n.on_axis,
+            };
+            let stats = contact::correct(
+                &hits,
+                &self.projectile.masters,
+                &mut bodies,
+                lambda,
+                self.projectile.total_mass,
+            );
+            self.account.contact_dissipated += stats.dissipated;
+            self.account.max_penetration = self.account.max_penetration.max(stats.max_penetration);
+        }
+        self.forces(dt)?;
+        self.time += dt as f64;
+        self.step += 1;
+        self.account.min_dt = self.account.min_dt.min(dt as f64);
+        self.account.max_dt = self.account.max_dt.max(dt as f64);
+        self.dt = self.stable_dt()?;
+        Ok(())
+    }
+
+    fn detect(&self) -> Vec<Hit> {
+        cpu::contact_detect::run(
+            &self.slaves,
+            &self.particles,
+            &self.projectile.nodes,
+            &self.projectile.masters,
+        )
+    }
+
+    pub fn kinetic_energy(&self) -> f64 {
+        let p = &self.particles;
+        let n = &self.projectile.nodes;
+        let ke = |m: &[f32], vr: &[f32], vz: &[f32]| -> f64 {
+            (0..m.len())
+                .map(|i| 0.5 * m[i] as f64 * ((vr[i] as f64).powi(2) + (vz[i] as f64).powi(2)))
+                .sum()
+        };
+        ke(&p.mass, &p.vr, &p.vz) + ke(&n.mass, &n.vr, &n.vz)
+    }
+
+    fn projectile_momentum(&self) -> f64 {
+        let n = &self.projectile.nodes;
+        (0..n.len())
+            .map(|i| n.mass[i] as f64 * n.vz[i] as f64)
+            .sum()
+    }
+
+    /// Total z-momentum of projectile and target.
+    pub fn momentum_z(&self) -> f64 {
+        let p = &self.particles;
+        self.projectile_momentum()
+            + (0..p.len())
+                .map(|i| p.mass[i] as f64 * p.vz[i] as f64)
+                .sum::<f64>()
+    }
+
+    pub fn internal_target(&self) -> f64 {
+        let p = &self.particles;
+        (0..p.len())
+            .map(|i| p.mass[i] as f64 * p.energy[i] as f64)
+            .sum()
+    }
+
+    pub fn internal_projectile(&self) -> f64 {
+        let e = &self.projectile.elements;
+        (0..e.len())
+            .map(|i| e.volume0[i] as f64 * e.energy[i] as f64)
+            .sum()
+    }
+
+    /// (E_kin + E_int + dissipated − E₀)/E₀.
+    pub fn energy_error(&self) -> f64 {
+        let a = &self.account;
+        let total = self.kinetic_energy()
+            + self.internal_target()
+            + self.internal_projectile()
+            + a.contact_dissipated
+            + a.wall_dissipated;
+        (total - a.initial_kinetic) / a.initial_kinetic.max(f64::MIN_POSITIVE)
+    }
+
+    pub fn momentum_error(&self) -> f64 {
+        let a = &self.account;
+        (self.momentum_z() - a.initial_momentum - a.boundary_impulse).abs()
+            / a.initial_momentum.abs().max(f64::MIN_POSITIVE)
+    }
+
+    /// Penetration depth: how far the nose tip is beyond the original front face z = 0 (m).
+    pub fn depth(&self) -> f64 {
+        let z_min = self
+            .projectile
+            .nodes
+            .z
+            .iter()
+            .copied()
+            .fold(f32::MAX, f32::min) as f64;
+        if self.scene.target.is_some() {
+            (-z_min).max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Centre-of-mass speed along the flight direction (−z), m/s.
+    pub fn projectile_velocity(&self) -> f64 {
+        -self.projectile_momentum() / self.projectile.total_mass
+    }
+
+    /// (length along z, largest radius) of the projectile.
+    pub fn projectile_extent(&self) -> (f64, f64) {
+        let n = &self.projectile.nodes;
+        let z_min = n.z.iter().copied().fold(f32::MAX, f32::min);
+        let z_max = n.z.iter().copied().fold(f32::MIN, f32::max);
+        let r_max = n.r.iter().copied().fold(0.0f32, f32::max);
+        ((z_max - z_min) as f64, r_max as f64)
+    }
+
+    pub fn max_damage(&self) -> f64 {
+        self.projectile
+            .elements
+            .damage
+            .iter()
+            .copied()
+            .fold(0.0f32, f32::max) as f64
+    }
+
+    pub fn max_plastic_strain(&self) -> f64 {
+        self.projectile
+            .elements
+            .eps_p
+            .iter()
+            .copied()
+            .fold(0.0f32, f32::max) as f64
+    }
+
+    /// Why the run should stop now, if it should.
+    fn stop_reason(&self) -> Option<&'static str> {
+        if self.time >= self.scene.run.end_time {
+            return Some("end time reached");
+        }
+        if self.scene.run.stop_at_rest {
+            if let Some(t) = &self.scene.target {
+                let v = self.projectile_velocity();
+                if self.step > 10 && v <= 0.0 {
+                    return Some("projectile at rest");
+                }
+                let z_max = self
+                    .projectile
+                    .nodes
+                    .z
+                    .iter()
+                    .copied()
+                    .fold(f32::MIN, f32::max) as f64;
+                if z_max < -t.thickness {
+                    return Some("projectile left the target (perforation)");
+                }
+            }
+        }
+        None
+    }
+
+    fn history_row(&self) -> Row {
+        Row {
+            time: self.time,
+            step: self.step,
+            dt: self.dt as f64,
+            depth: self.depth(),
+            velocity: self.projectile_velocity(),
+            kinetic: self.kinetic_energy(),
+            internal: self.internal_target() + self.internal_projectile(),
+            contact_dissipated: self.account.contact_dissipated,
+            energy_error: self.energy_error(),
+            max_damage: self.max_damage(),
+            max_plastic_strain: self.max_plastic_strain(),
+            hits: self.last_hits,
+        }
+    }
+
+    /// Write one VTK frame of the target and the projectile.
+    pub fn write_frame(
+        &self,
+        dir: &Path,
+        frame: usize,
+        pvd: &mut vtk::Collection,
+    ) -> std::io::Result<()> {
+        let p = &self.particles;
+        if !p.is_empty() {
+            let name = format!("target_{frame:05}.vtu");
+            let speed: Vec<f32> = (0..p.len()).map(|i| p.vr[i].hypot(p.vz[i])).collect();
+            vtk::write_vtu(
+                &dir.join(&name),
+                &p.r,
+                &p.z,
+                None,
+                &[
+                    ("pressure", &p.p),
+                    ("density", &p.rho),
+                    ("damage", &p.damage),
+                    ("plastic_strain", &p.eps_p),
+                    ("speed", &speed),
+                    ("v_r", &p.vr),
+                    ("v_z", &p.vz),
+                ],
+                &[],
+            )?;
+            pvd.add(self.time, 0, &name)?;
+        }
+        let n = &self.projectile.nodes;
+        let e = &self.projectile.elements;
+        let name = format!("projectile_{frame:05}.vtu");
+        let seq: Vec<f32> = (0..e.len())
+            .map(|k| cpu::fem_stress::von_mises(&[e.s_rr[k], e.s_zz[k], e.s_rz[k], e.s_tt[k]]))
+            .collect();
+        vtk::write_vtu(
+            &dir.join(&name),
+            &n.r,
+            &n.z,
+            Some(&e.nodes),
+            &[("v_r", &n.vr), ("v_z", &n.vz)],
+            &[
+                ("damage", &e.damage),
+                ("plastic_strain", &e.eps_p),
+                ("pressure", &e.p),
+                ("von_mises", &seq),
+                ("temperature", &e.temperature),
+            ],
+        )?;
+        pvd.add(self.time, 1, &name)
+    }
+
+    /// Passes that ran, with the side they ran on.
+    pub fn pass_names(&self, backend: &str) -> Vec<String> {
+        self.passes
+            .iter()
+            .map(|p| {
+                format!(
+                    "{}:{}",
+                    p.name(),
+                    if *p == Pass::ContactCorrect {
+                        "cpu"
+                    } else {
+                        backend
+                    }
+                )
+            })
+            .collect()
+    }
+
+    pub fn summary(&self, status: &str, stop_reason: &str, wall_s: f64) -> Summary {
+        let (length, radius) = self.projectile_extent();
+        let a = &self.account;
+        Summary {
+            scene: self.scene.name.clone(),
+            status: status.to_string(),
+            stop_reason: stop_reason.to_string(),
+            backend: "cpu".into(),
+            adapter: "none (CPU reference path)".into(),
+            depth_m: self.depth(),
+            projectile_velocity_m_s: self.projectile_velocity(),
+            max_damage: self.max_damage(),
+            max_plastic_strain: self.max_plastic_strain(),
+            final_length_m: length,
+            max_radius_m: radius,
+            time_s: self.time,
+            steps: self.step,
+            particles: self.particles.len(),
+            elements: self.projectile.elements.len(),
+            nodes: self.projectile.nodes.len(),
+            projectile_mass_kg: self.projectile.total_mass,
+            wall_s,
+            energy_error: self.energy_error(),
+            momentum_error: self.momentum_error(),
+            energy: EnergySummary {
+                initial_kinetic: a.initial_kinetic,
+                kinetic: self.kinetic_energy(),
+                internal_projectile: self.internal_projectile(),
+                internal_target: self.internal_target(),
+                plastic_work_projectile: a.plastic_work,
+                contact_dissipated: a.contact_dissipated,
+                wall_dissipated: a.wall_dissipated,
+            },
+            passes: self.pass_names("cpu"),
+            min_dt_s: if a.min_dt == f64::MAX { 0.0 } else { a.min_dt },
+            max_dt_s: a.max_dt,
+            max_slave_penetration_m: a.max_penetration as f64,
+        }
+    }
+}
+
+/// Options of `penetrate run`.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub out: PathBuf,
+    pub quiet: bool,
+    /// Write VTK frames (tests turn them off).
+    pub vtk: bool,
+}
+
+/// The result of a run: its summary, and whether it ended normally.
+pub struct RunOutcome {
+    pub summary: Summary,
+    pub ok: bool,
+}
+
+/// Run a scene to its end, writing the outputs as it goes. An unstable run stops, says what and
+/// where in `status`, and keeps what it had written.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
+    let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
+    std::fs::create_dir_all(&opts.out).map_err(io)?;
+    let started = Instant::now();
+    let mut sim = Simulation::new(scene)?;
+    let mut history = History::create(&opts.out.join("history.csv")).map_err(io)?;
+    let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
+    let mut frame = 0;
+    if opts.vtk {
+        sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+        frame += 1;
+    }
+    history.write(&sim.history_row()).map_err(io)?;
+    let mut next_history = scene.run.history_interval;
+    let mut next_frame = if scene.run.output_interval > 0.0 {
+        scene.run.output_interval
+    } else {
+        f64::MAX
+    };
+    let mut progress = Progress::new(scene.run.end_time, opts.quiet);
+    let (status, reason, ok) = loop {
+        if let Some(reason) = sim.stop_reason() {
+            break ("completed".to_string(), reason.to_string(), true);
+        }
+        if sim.step >= scene.run.max_steps {
+            break (
+                format!(
+                    "stopped: max_steps = {} reached at t {:.4e} s",
+                    scene.run.max_steps, sim.time
+                ),
+                String::new(),
+                false,
+            );
+        }
+        if let Err(e) = sim.step() {
+            break (e.to_string(), String::new(), false);
+        }
+        if sim.time >= next_history {
+            history.write(&sim.history_row()).map_err(io)?;
+            next_history += scene.run.history_interval;
+            progress.update(sim.time, sim.step, sim.depth(), sim.projectile_velocity());
+        }
+        if opts.vtk && sim.time >= next_frame {
+            sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+            frame += 1;
+            next_frame += scene.run.output_interval;
+        }
+    };
+    progress.finish();
+    history.write(&sim.history_row()).map_err(io)?;
+    history.flush().map_err(io)?;
+    if opts.vtk {
+        sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+    }
+    let summary = sim.summary(&status, &reason, started.elapsed().as_secs_f64());
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| RunError::Io(e.to_string()))?;
+    std::fs::write(opts.out.join("summary.json"), json + "\n").map_err(io)?;
+    Ok(RunOutcome { summary, ok })
+}

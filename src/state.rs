@@ -1,1 +1,312 @@
-//! (in progress)
+//! Simulation state as structures of arrays (f32), laid out as the GPU buffers will be.
+//! Global sums (time, energies, momenta) are kept in f64 by the solver, not here.
+
+use crate::materials::hjc::Hjc;
+use crate::materials::johnson_cook::{JcDamage, JcStrength};
+use crate::materials::steel_eos::PolyEos;
+use crate::mesh::{MasterSegment, ProjectileMesh, TargetLattice};
+use crate::scene::{SteelMaterial, TargetSpec};
+
+/// SPH particles of the concrete target. Masses are whole-ring masses.
+#[derive(Clone, Debug, Default)]
+pub struct Particles {
+    pub r: Vec<f32>,
+    pub z: Vec<f32>,
+    pub vr: Vec<f32>,
+    pub vz: Vec<f32>,
+    pub ar: Vec<f32>,
+    pub az: Vec<f32>,
+    pub mass: Vec<f32>,
+    pub rho: Vec<f32>,
+    /// Specific internal energy (J/kg).
+    pub energy: Vec<f32>,
+    /// Pressure (Pa, compression positive).
+    pub p: Vec<f32>,
+    /// Stress deviator S_rr, S_zz, S_rz, S_θθ (Pa).
+    pub s_rr: Vec<f32>,
+    pub s_zz: Vec<f32>,
+    pub s_rz: Vec<f32>,
+    pub s_tt: Vec<f32>,
+    pub damage: Vec<f32>,
+    /// Largest volumetric strain μ reached (HJC crushing history).
+    pub mu_max: Vec<f32>,
+    /// Equivalent plastic strain.
+    pub eps_p: Vec<f32>,
+    pub sound: Vec<f32>,
+    /// Velocity gradient L_ab = ∂v_a/∂x_b from `sph_rates`: rr, rz, zr, zz.
+    pub l_rr: Vec<f32>,
+    pub l_rz: Vec<f32>,
+    pub l_zr: Vec<f32>,
+    pub l_zz: Vec<f32>,
+    /// Density rate from `sph_rates`.
+    pub drho: Vec<f32>,
+    /// Viscous heating rate (W/kg) and the largest viscosity μ_ij, from `sph_forces`.
+    pub de_visc: Vec<f32>,
+    pub mu_visc: Vec<f32>,
+    /// Per-radian-area mass m̃ = m/(2π r) and planar area m̃/ρ, from `sph_rates`.
+    pub m_tilde: Vec<f32>,
+    pub area: Vec<f32>,
+    /// 1 where the particle is held at zero velocity (fixed boundary).
+    pub fixed: Vec<u32>,
+}
+
+impl Particles {
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+
+    /// Particles at rest, at the reference density, from the lattice.
+    pub fn from_lattice(lattice: &TargetLattice, spec: &TargetSpec) -> Particles {
+        let n = lattice.r.len();
+        let zero = vec![0.0f32; n];
+        let fixed = (0..n)
+            .map(|i| {
+                u32::from(
+                    (spec.fix_rear && lattice.rear[i]) || (spec.fix_lateral && lattice.lateral[i]),
+                )
+            })
+            .collect();
+        let concrete = &spec.concrete;
+        let c0 = crate::materials::hjc::sound_speed(concrete, concrete.p_crush / concrete.mu_crush);
+        Particles {
+            r: lattice.r.clone(),
+            z: lattice.z.clone(),
+            vr: zero.clone(),
+            vz: zero.clone(),
+            ar: zero.clone(),
+            az: zero.clone(),
+            mass: lattice.mass.clone(),
+            rho: vec![concrete.density; n],
+            energy: zero.clone(),
+            p: zero.clone(),
+            s_rr: zero.clone(),
+            s_zz: zero.clone(),
+            s_rz: zero.clone(),
+            s_tt: zero.clone(),
+            damage: zero.clone(),
+            mu_max: zero.clone(),
+            eps_p: zero.clone(),
+            sound: vec![c0; n],
+            l_rr: zero.clone(),
+            l_rz: zero.clone(),
+            l_zr: zero.clone(),
+            l_zz: zero.clone(),
+            drho: zero.clone(),
+            de_visc: zero.clone(),
+            mu_visc: zero.clone(),
+            m_tilde: zero.clone(),
+            area: zero,
+            fixed,
+        }
+    }
+}
+
+/// Constants of the target that every SPH pass reads (a uniform buffer on the GPU).
+#[derive(Clone, Copy, Debug)]
+pub struct SphParams {
+    pub h: f32,
+    pub concrete: Hjc,
+    pub alpha: f32,
+    pub beta: f32,
+    /// Gray–Monaghan artificial stress factor ε (0 = off) and exponent n.
+    pub art_stress_eps: f32,
+    pub art_stress_n: f32,
+    /// W(Δ, h): the reference kernel value of the artificial stress.
+    pub w_spacing: f32,
+}
+
+impl SphParams {
+    pub fn new(spec: &TargetSpec) -> SphParams {
+        let h = (spec.spacing * spec.smoothing_ratio) as f32;
+        SphParams {
+            h,
+            concrete: spec.concrete,
+            alpha: spec.viscosity_alpha as f32,
+            beta: spec.viscosity_beta as f32,
+            art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },
+            art_stress_n: 4.0,
+            w_spacing: crate::kernel::w(spec.spacing as f32, h),
+        }
+    }
+}
+
+/// Projectile nodes. Masses are whole-ring lumped masses; forces are totals over the ring.
+#[derive(Clone, Debug, Default)]
+pub struct Nodes {
+    pub r: Vec<f32>,
+    pub z: Vec<f32>,
+    pub vr: Vec<f32>,
+    pub vz: Vec<f32>,
+    pub fr: Vec<f32>,
+    pub fz: Vec<f32>,
+    pub mass: Vec<f32>,
+    /// 1 for nodes on the axis (ṙ = 0 there).
+    pub on_axis: Vec<u32>,
+    /// Node → element CSR: `elems[offsets[n]..offsets[n+1]]` holds `3·element + local index`.
+    pub elem_offsets: Vec<u32>,
+    pub elem_refs: Vec<u32>,
+}
+
+impl Nodes {
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+}
+
+/// Projectile elements (linear triangles) and their state.
+#[derive(Clone, Debug, Default)]
+pub struct Elements {
+    pub nodes: Vec<[u32; 3]>,
+    /// Reference ring volume V₀ (m³).
+    pub volume0: Vec<f32>,
+    pub s_rr: Vec<f32>,
+    pub s_zz: Vec<f32>,
+    pub s_rz: Vec<f32>,
+    pub s_tt: Vec<f32>,
+    /// EOS pressure (Pa) without the bulk viscosity.
+    pub p: Vec<f32>,
+    /// Internal energy per unit reference volume (J/m³).
+    pub energy: Vec<f32>,
+    pub eps_p: Vec<f32>,
+    pub temperature: Vec<f32>,
+    pub damage: Vec<f32>,
+    /// 1 once the element has failed (damage or spall).
+    pub failed: Vec<u32>,
+    /// Nodal forces this element exerts on (i, j, m): r_i, z_i, r_j, z_j, r_m, z_m.
+    pub force: Vec<[f32; 6]>,
+    /// Stable time step of the element from the last stress pass.
+    pub dt: Vec<f32>,
+    /// Plastic work done in the last step (J), for the energy account.
+    pub plastic_work: Vec<f32>,
+}
+
+impl Elements {
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+}
+
+/// Projectile material constants that the FEM passes read (a uniform buffer on the GPU).
+#[derive(Clone, Copy, Debug)]
+pub struct FemParams {
+    pub density: f32,
+    pub shear_modulus: f32,
+    pub specific_heat: f32,
+    pub taylor_quinney: f32,
+    pub strength: JcStrength,
+    pub eos: PolyEos,
+    pub damage: Option<JcDamage>,
+    /// Bulk viscosity: quadratic and linear coefficients.
+    pub q_quad: f32,
+    pub q_lin: f32,
+    /// Newton iterations of the radial return (1 = the GPU's single linearised step).
+    pub return_iterations: u32,
+}
+
+impl FemParams {
+    pub fn new(m: &SteelMaterial) -> FemParams {
+        FemParams {
+            density: m.density as f32,
+            shear_modulus: (m.youngs_modulus / (2.0 * (1.0 + m.poisson_ratio))) as f32,
+            specific_heat: m.specific_heat as f32,
+            taylor_quinney: m.taylor_quinney as f32,
+            strength: m.strength,
+            eos: m.eos,
+            damage: m.damage,
+            // LS-DYNA's defaults Q1 = 1.5, Q2 = 0.06 (physics.md §2).
+            q_quad: 1.5,
+            q_lin: 0.06,
+            return_iterations: 8,
+        }
+    }
+}
+
+/// The projectile: nodes, elements and the master segments of the sliding surface.
+#[derive(Clone, Debug, Default)]
+pub struct Projectile {
+    pub nodes: Nodes,
+    pub elements: Elements,
+    pub masters: Vec<MasterSegment>,
+    /// Total mass M (kg).
+    pub total_mass: f64,
+}
+
+impl Projectile {
+    /// Projectile at rest in its reference state, moving at `velocity` along −z, at `t_room`.
+    pub fn from_mesh(mesh: &ProjectileMesh, velocity: f32, t_room: f32) -> Projectile {
+        let nn = mesh.node_r.len();
+        let ne = mesh.elements.len();
+        let mut counts = vec![0u32; nn + 1];
+        for el in &mesh.elements {
+            for &n in el {
+                counts[n as usize + 1] += 1;
+            }
+        }
+        for i in 0..nn {
+            counts[i + 1] += counts[i];
+        }
+        let offsets = counts.clone();
+        let mut fill = counts;
+        let mut refs = vec![0u32; offsets[nn] as usize];
+        for (e, el) in mesh.elements.iter().enumerate() {
+            for (local, &n) in el.iter().enumerate() {
+                refs[fill[n as usize] as usize] = 3 * e as u32 + local as u32;
+                fill[n as usize] += 1;
+            }
+        }
+        let volume0 = mesh
+            .elements
+            .iter()
+            .map(|el| {
+                let g = crate::cpu::fem_stress::Geometry::new(el, &mesh.node_r, &mesh.node_z);
+                g.volume()
+            })
+            .collect();
+        let zero = vec![0.0f32; ne];
+        Projectile {
+            nodes: Nodes {
+                r: mesh.node_r.clone(),
+                z: mesh.node_z.clone(),
+                vr: vec![0.0; nn],
+                vz: vec![-velocity; nn],
+                fr: vec![0.0; nn],
+                fz: vec![0.0; nn],
+                mass: mesh.node_mass.clone(),
+                on_axis: mesh.node_r.iter().map(|&r| u32::from(r == 0.0)).collect(),
+                elem_offsets: offsets,
+                elem_refs: refs,
+            },
+            elements: Elements {
+                nodes: mesh.elements.clone(),
+                volume0,
+                s_rr: zero.clone(),
+                s_zz: zero.clone(),
+                s_rz: zero.clone(),
+                s_tt: zero.clone(),
+                p: zero.clone(),
+                energy: zero.clone(),
+                eps_p: zero.clone(),
+                temperature: vec![t_room; ne],
+                damage: zero.clone(),
+                failed: vec![0; ne],
+                force: vec![[0.0; 6]; ne],
+                dt: vec![f32::MAX; ne],
+                plastic_work: zero,
+            },
+            masters: mesh.masters.clone(),
+            total_mass: mesh.total_mass,
+        }
+    }
+}

@@ -1,0 +1,111 @@
+//! `concrete`: per particle, the HJC update (physics.md §3.1) in the OpenRadioss LAW126 order:
+//! density from continuity, EOS with crushing, trial deviator (Jaumann), strength with the new
+//! pressure and the old damage, radial scaling, damage from Δε_p + Δμ_p; then the energy.
+
+use rayon::prelude::*;
+
+use super::sph_rates::hoop_radius;
+use crate::materials::hjc;
+use crate::state::{Particles, SphParams};
+
+pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
+    let h = params.h;
+    let c = &params.concrete;
+    let Particles {
+        r,
+        vr,
+        rho,
+        energy,
+        p,
+        s_rr,
+        s_zz,
+        s_rz,
+        s_tt,
+        damage,
+        mu_max,
+        eps_p,
+        sound,
+        l_rr,
+        l_rz,
+        l_zr,
+        l_zz,
+        drho,
+        de_visc,
+        ..
+    } = particles;
+    let (r, vr, l_rr, l_rz, l_zr, l_zz, drho, de_visc) =
+        (&*r, &*vr, &*l_rr, &*l_rz, &*l_zr, &*l_zz, &*drho, &*de_visc);
+    rho.par_iter_mut()
+        .zip(energy.par_iter_mut())
+        .zip(p.par_iter_mut())
+        .zip(s_rr.par_iter_mut())
+        .zip(s_zz.par_iter_mut())
+        .zip(s_rz.par_iter_mut())
+        .zip(s_tt.par_iter_mut())
+        .zip(damage.par_iter_mut())
+        .zip(mu_max.par_iter_mut())
+        .zip(eps_p.par_iter_mut())
+        .zip(sound.par_iter_mut())
+        .enumerate()
+        .for_each(
+            |(i, ((((((((((rho, e), p), srr), szz), srz), stt), dmg), mmax), ep), snd))| {
+                let d_tt = vr[i] / hoop_radius(r[i], h);
+                let d_rr = l_rr[i];
+                let d_zz = l_zz[i];
+                let d_rz = 0.5 * (l_rz[i] + l_zr[i]);
+                let spin = 0.5 * (l_rz[i] - l_zr[i]);
+                let old_power = (*srr - *p) * d_rr
+                    + (*szz - *p) * d_zz
+                    + 2.0 * *srz * d_rz
+                    + (*stt - *p) * d_tt;
+
+                *rho += dt * drho[i];
+                let mu = *rho / c.density - 1.0;
+                let eos = hjc::pressure(c, mu, *mmax, *dmg);
+                *mmax = eos.mu_max;
+                *p = eos.p;
+
+                let vol = d_rr + d_zz + d_tt;
+                let dev = [d_rr - vol / 3.0, d_zz - vol / 3.0, d_rz, d_tt - vol / 3.0];
+                let g = c.shear_modulus;
+                let (a, b, cz) = (*srr, *szz, *srz);
+                let mut s = [
+                    a + dt * (2.0 * g * dev[0] + 2.0 * spin * cz),
+                    b + dt * (2.0 * g * dev[1] - 2.0 * spin * cz),
+                    cz + dt * (2.0 * g * dev[2] + spin * (b - a)),
+                    *stt + dt * (2.0 * g * dev[3]),
+                ];
+                let eq_rate = (2.0 / 3.0
+                    * (dev[0] * dev[0]
+                        + dev[1] * dev[1]
+                        + 2.0 * dev[2] * dev[2]
+                        + dev[3] * dev[3]))
+                    .sqrt();
+                let seq =
+                    (1.5 * (s[0] * s[0] + s[1] * s[1] + 2.0 * s[2] * s[2] + s[3] * s[3])).sqrt();
+                let sy = hjc::yield_stress(c, eos.p, *dmg, eq_rate);
+                let mut d_eps_p = 0.0;
+                if seq > sy {
+                    let scale = if seq > 0.0 { sy / seq } else { 0.0 };
+                    for v in &mut s {
+                        *v *= scale;
+                    }
+                    d_eps_p = (seq - sy) / (3.0 * g);
+                }
+                *ep += d_eps_p;
+                *dmg = (*dmg + hjc::damage_increment(c, eos.p, d_eps_p, eos.d_mu_p)).min(1.0);
+                *srr = s[0];
+                *szz = s[1];
+                *srz = s[2];
+                *stt = s[3];
+                *snd = hjc::sound_speed(c, eos.tangent);
+
+                // ė = σ:ε̇/ρ (θθ included), trapezoidal in the stress, plus viscous heating.
+                let new_power = (s[0] - eos.p) * d_rr
+                    + (s[1] - eos.p) * d_zz
+                    + 2.0 * s[2] * d_rz
+                    + (s[3] - eos.p) * d_tt;
+                *e += dt * (0.5 * (old_power + new_power) / *rho + de_visc[i]);
+            },
+        );
+}

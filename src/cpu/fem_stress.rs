@@ -1,0 +1,575 @@
+//! `fem_stress`: per element, strain rates, Jaumann rate, EOS, Johnson–Cook plasticity and
+//! damage, bulk viscosity, and the element's nodal forces (EPIC-2, physics.md §2).
+
+use rayon::prelude::*;
+
+use crate::materials::johnson_cook as jc;
+use crate::materials::steel_eos;
+use crate::state::{Elements, FemParams, Nodes};
+
+const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
+
+/// Shape data of one triangle at its current position: b_i = z_j − z_m, c_i = r_m − r_j.
+#[derive(Clone, Copy, Debug)]
+pub struct Geometry {
+    pub r: [f32; 3],
+    pub z: [f32; 3],
+    pub b: [f32; 3],
+    pub c: [f32; 3],
+    /// 2A = Σ r_i b_i (positive for counter-clockwise nodes).
+    pub two_area: f32,
+    /// Mean radius r̄.
+    pub r_mean: f32,
+}
+
+impl Geometry {
+    pub fn new(nodes: &[u32; 3], r: &[f32], z: &[f32]) -> Geometry {
+        let rr = [
+            r[nodes[0] as usize],
+            r[nodes[1] as usize],
+            r[nodes[2] as usize],
+        ];
+        let zz = [
+            z[nodes[0] as usize],
+            z[nodes[1] as usize],
+            z[nodes[2] as usize],
+        ];
+        let b = [zz[1] - zz[2], zz[2] - zz[0], zz[0] - zz[1]];
+        let c = [rr[2] - rr[1], rr[0] - rr[2], rr[1] - rr[0]];
+        // 2A from the edge vectors (translation invariant, better in f32 than Σ r_i b_i).
+        let two_area = (rr[1] - rr[0]) * (zz[2] - zz[0]) - (rr[2] - rr[0]) * (zz[1] - zz[0]);
+        Geometry {
+            r: rr,
+            z: zz,
+            b,
+            c,
+            two_area,
+            r_mean: (rr[0] + rr[1] + rr[2]) / 3.0,
+        }
+    }
+
+    /// Ring volume V = 2π r̄ A.
+    pub fn volume(&self) -> f32 {
+        std::f32::consts::PI * self.r_mean * self.two_area
+    }
+
+    /// Smallest altitude: 2A over the longest edge.
+    pub fn min_altitude(&self) -> f32 {
+        let mut longest = 0.0f32;
+        for k in 0..3 {
+            longest = longest.max((self.b[k] * self.b[k] + self.c[k] * self.c[k]).sqrt());
+        }
+        self.two_area / longest
+    }
+}
+
+/// Rate of deformation of a triangle (physics.md §2): ε̇_r, ε̇_z, γ̇_rz, ε̇_θ and the spin ω.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrainRate {
+    pub rr: f32,
+    pub zz: f32,
+    /// Engineering shear γ̇_rz (twice the tensor component).
+    pub gamma_rz: f32,
+    pub tt: f32,
+    /// ω = ½(∂v_r/∂z − ∂v_z/∂r).
+    pub spin: f32,
+}
+
+impl StrainRate {
+    pub fn new(g: &Geometry, vr: [f32; 3], vz: [f32; 3]) -> StrainRate {
+        let inv = 1.0 / g.two_area;
+        let mut rr = 0.0;
+        let mut zz = 0.0;
+        let mut drdz = 0.0;
+        let mut dzdr = 0.0;
+        // Velocities relative to node 0 (Σ b_k = Σ c_k = 0): a rigid translation then gives
+        // exactly zero in f32, not round-off noise.
+        for k in 1..3 {
+            let (ur, uz) = (vr[k] - vr[0], vz[k] - vz[0]);
+            rr += g.b[k] * ur;
+            zz += g.c[k] * uz;
+            drdz += g.c[k] * ur;
+            dzdr += g.b[k] * uz;
+        }
+        let r_sum = g.r[0] + g.r[1] + g.r[2];
+        StrainRate {
+            rr: rr * inv,
+            zz: zz * inv,
+            gamma_rz: (drdz + dzdr) * inv,
+            tt: (vr[0] + vr[1] + vr[2]) / r_sum,
+            spin: 0.5 * (drdz - dzdr) * inv,
+        }
+    }
+
+    pub fn volumetric(&self) -> f32 {
+        self.rr + self.zz + self.tt
+    }
+}
+
+/// Total stress of an element (tension positive): σ_r, σ_z, τ_rz, σ_θ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stress {
+    pub rr: f32,
+    pub zz: f32,
+    pub rz: f32,
+    pub tt: f32,
+}
+
+impl Stress {
+    /// Stress power density σ:ε̇ (W/m³).
+    pub fn power(&self, d: &StrainRate) -> f32 {
+        self.rr * d.rr + self.zz * d.zz + self.rz * d.gamma_rz + self.tt * d.tt
+    }
+}
+
+/// Nodal forces an element exerts on its nodes, paper eq. (1)-(2) in the power-consistent form
+/// of physics.md §2: F_r,k = −π r̄ (σ_r b_k + τ c_k) − 2πA σ_θ/3, F_z,k = −π r̄ (σ_z c_k + τ b_k).
+pub fn nodal_forces(g: &Geometry, s: &Stress) -> [f32; 6] {
+    let pr = std::f32::consts::PI * g.r_mean;
+    let hoop = TWO_PI * 0.5 * g.two_area * s.tt / 3.0;
+    let mut f = [0.0; 6];
+    for k in 0..3 {
+        f[2 * k] = -pr * (s.rr * g.b[k] + s.rz * g.c[k]) - hoop;
+        f[2 * k + 1] = -pr * (s.zz * g.c[k] + s.rz * g.b[k]);
+    }
+    f
+}
+
+/// An element turned inside out: the run must stop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inverted {
+    pub element: usize,
+    pub r: f32,
+    pub z: f32,
+}
+
+/// Update every element's stress state over `dt` from the nodal velocities and write its
+/// nodal forces and stable time step.
+pub fn run(
+    elements: &mut Elements,
+    nodes: &Nodes,
+    params: &FemParams,
+    dt: f32,
+) -> Result<(), Inverted> {
+    let Elements {
+        nodes: conn,
+        volume0,
+        s_rr,
+        s_zz,
+        s_rz,
+        s_tt,
+        p,
+        energy,
+        eps_p,
+        temperature,
+        damage,
+        failed,
+        force,
+        dt: dt_out,
+        plastic_work,
+    } = elements;
+    let inverted = conn
+        .par_iter()
+        .zip(volume0.par_iter())
+        .zip(s_rr.par_iter_mut())
+        .zip(s_zz.par_iter_mut())
+        .zip(s_rz.par_iter_mut())
+        .zip(s_tt.par_iter_mut())
+        .zip(p.par_iter_mut())
+        .zip(energy.par_iter_mut())
+        .zip(eps_p.par_iter_mut())
+        .zip(temperature.par_iter_mut())
+        .zip(damage.par_iter_mut())
+        .zip(failed.par_iter_mut())
+        .zip(force.par_iter_mut())
+        .zip(dt_out.par_iter_mut())
+        .zip(plastic_work.par_iter_mut())
+        .enumerate()
+        .map(
+            |(
+                e,
+                (
+                    (
+                        (
+                            (
+                                (
+                                    (((((((((el, &v0), srr), szz), srz), stt), pe), en), ep), temp),
+                                    dmg,
+                                ),
+                                fail,
+                            ),
+                            f,
+                        ),
+                        dte,
+                    ),
+                    wp,
+                ),
+            )| {
+                let mut st = ElementState {
+                    s: [*srr, *szz, *srz, *stt],
+                    p: *pe,
+                    energy: *en,
+                    eps_p: *ep,
+                    temperature: *temp,
+                    damage: *dmg,
+                    failed: *fail != 0,
+                };
+                let out = update_element(el, v0, nodes, params, dt, &mut st);
+                *srr = st.s[0];
+                *szz = st.s[1];
+                *srz = st.s[2];
+                *stt = st.s[3];
+                *pe = st.p;
+                *en = st.energy;
+                *ep = st.eps_p;
+                *temp = st.temperature;
+                *dmg = st.damage;
+                *fail = u32::from(st.failed);
+                match out {
+                    Some(o) => {
+                        *f = o.force;
+                        *dte = o.dt;
+                        *wp = o.plastic_work;
+                        None
+                    }
+                    None => {
+                        let g = Geometry::new(el, &nodes.r, &nodes.z);
+                        Some(Inverted {
+                            element: e,
+                            r: g.r_mean,
+                            z: (g.z[0] + g.z[1] + g.z[2]) / 3.0,
+                        })
+                    }
+                }
+            },
+        )
+        .find_first(|x| x.is_some())
+        .flatten();
+    match inverted {
+        Some(inv) => Err(inv),
+        None => Ok(()),
+    }
+}
+
+/// The state one element carries from step to step.
+#[derive(Clone, Copy, Debug)]
+pub struct ElementState {
+    /// Deviator S_r, S_z, S_rz, S_θ.
+    pub s: [f32; 4],
+    pub p: f32,
+    pub energy: f32,
+    pub eps_p: f32,
+    pub temperature: f32,
+    pub damage: f32,
+    pub failed: bool,
+}
+
+/// What one element's update produces.
+#[derive(Clone, Copy, Debug)]
+pub struct ElementOutput {
+    pub force: [f32; 6],
+    pub dt: f32,
+    pub plastic_work: f32,
+}
+
+/// One element's constitutive update; `None` when the element is inverted (2A ≤ 0).
+pub fn update_element(
+    el: &[u32; 3],
+    volume0: f32,
+    nodes: &Nodes,
+    m: &FemParams,
+    dt: f32,
+    st: &mut ElementState,
+) -> Option<ElementOutput> {
+    let g = Geometry::new(el, &nodes.r, &nodes.z);
+    if !(g.two_area > 0.0) {
+        return None;
+    }
+    let idx = [el[0] as usize, el[1] as usize, el[2] as usize];
+    let vr = idx.map(|n| nodes.vr[n]);
+    let vz = idx.map(|n| nodes.vz[n]);
+    let d = StrainRate::new(&g, vr, vz);
+    let volume = g.volume();
+    let rel_volume = volume / volume0;
+    let rho = m.density / rel_volume;
+    let mu = 1.0 / rel_volume - 1.0;
+    let g_mod = m.shear_modulus;
+
+    // Stress at the start of the step, for the mid-step power.
+    let old = total_stress(&st.s, st.p);
+
+    // Deviatoric strain rate, θθ included.
+    let vol = d.volumetric();
+    let dev = [
+        d.rr - vol / 3.0,
+        d.zz - vol / 3.0,
+        0.5 * d.gamma_rz,
+        d.tt - vol / 3.0,
+    ];
+    let eq_rate = (2.0 / 3.0
+        * (dev[0] * dev[0] + dev[1] * dev[1] + 2.0 * dev[2] * dev[2] + dev[3] * dev[3]))
+        .sqrt();
+
+    // Jaumann rotation of the deviator in the r–z plane, then the elastic trial.
+    let w = d.spin;
+    let [sr, sz, srz, stt] = st.s;
+    let mut s = [
+        sr + dt * (2.0 * g_mod * dev[0] + 2.0 * w * srz),
+        sz + dt * (2.0 * g_mod * dev[1] - 2.0 * w * srz),
+        srz + dt * (2.0 * g_mod * dev[2] + w * (sz - sr)),
+        stt + dt * (2.0 * g_mod * dev[3]),
+    ];
+    let mut plastic_work = 0.0;
+    if st.failed {
+        s = [0.0; 4];
+    } else {
+        let seq = von_mises(&s);
+        let ret = jc::radial_return(
+            &m.strength,
+            g_mod,
+            seq,
+            st.eps_p,
+            eq_rate,
+            st.temperature,
+            m.return_iterations,
+        );
+        if ret.d_eps_p > 0.0 {
+            for c in &mut s {
+                *c *= ret.scale;
+            }
+            st.eps_p += ret.d_eps_p;
+            // Adiabatic heating ΔT = β σ_y Δε_p /(ρ c_p), physics.md §2.1.
+            let work_density = ret.flow_stress * ret.d_eps_p;
+            st.temperature += m.taylor_quinney * work_density / (rho * m.specific_heat);
+            plastic_work = work_density * volume;
+        }
+        if let Some(dm) = &m.damage {
+            let seq_new = von_mises(&s);
+            let mean = -st.p;
+            let triax = if seq_new > 0.0 { mean / seq_new } else { 0.0 };
+            let t_star = jc::homologous_temperature(&m.strength, st.temperature);
+            st.damage += jc::damage_increment(
+                dm,
+                ret.d_eps_p,
+                triax,
+                eq_rate,
+                m.strength.eps_rate_ref,
+                t_star,
+            );
+            if st.damage >= 1.0 || jc::spalls(dm, mean) {
+                st.damage = st.damage.min(1.0);
+                st.failed = true;
+                s = [0.0; 4];
+            }
+        }
+    }
+
+    // EOS with the energy at mid-step (explicit predictor), eq. (14).
+    let e_pred = st.energy + dt * rel_volume * old.power(&d);
+    let mut p = steel_eos::pressure(&m.eos, mu, e_pred);
+    if st.failed {
+        p = p.max(0.0);
+    }
+
+    // Bulk viscosity on compression only.
+    let length = g.min_altitude();
+    let k_t = steel_eos::bulk_tangent(&m.eos, mu);
+    let c = ((k_t + 4.0 / 3.0 * g_mod) / rho).sqrt();
+    let q = if vol < 0.0 {
+        rho * length * (m.q_quad * length * vol * vol - m.q_lin * c * vol)
+    } else {
+        0.0
+    };
+
+    st.s = s;
+    st.p = p;
+    // Internal energy per reference volume: trapezoidal in the stress, plus the viscous heating
+    // −q tr ε̇ (the viscosity acts only within this step).
+    let power = 0.5 * (old.power(&d) + total_stress(&s, p).power(&d)) - q * vol;
+    st.energy += dt * rel_volume * power;
+    let new = total_stress(&s, p + q);
+
+    let q_hat = m.q_quad * length * (-vol).max(0.0) + m.q_lin * c;
+    let dt_el = length / (q_hat + (q_hat * q_hat + c * c).sqrt());
+    Some(ElementOutput {
+        force: nodal_forces(&g, &new),
+        dt: dt_el,
+        plastic_work,
+    })
+}
+
+/// Total stress σ = S − p I from the deviator (r, z, rz, θ) and the pressure.
+pub fn total_stress(s: &[f32; 4], p: f32) -> Stress {
+    Stress {
+        rr: s[0] - p,
+        zz: s[1] - p,
+        rz: s[2],
+        tt: s[3] - p,
+    }
+}
+
+/// Von Mises equivalent stress of a deviator (r, z, rz, θ).
+pub fn von_mises(s: &[f32; 4]) -> f32 {
+    (1.5 * (s[0] * s[0] + s[1] * s[1] + 2.0 * s[2] * s[2] + s[3] * s[3])).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        }
+        fn range(&mut self, a: f32, b: f32) -> f32 {
+            a + (b - a) * self.next()
+        }
+    }
+
+    /// Σ F·v = −V σ:ε̇ for random triangles, velocities and stresses (physics.md §2).
+    #[test]
+    fn power_identity_on_random_data() {
+        let mut rng = Rng(0x9e3779b97f4a7c15);
+        for case in 0..500 {
+            let on_axis = case % 3 == 0;
+            let mut r = [
+                rng.range(0.0, 0.01),
+                rng.range(0.0, 0.01),
+                rng.range(0.0, 0.01),
+            ];
+            let z = [
+                rng.range(-0.01, 0.01),
+                rng.range(-0.01, 0.01),
+                rng.range(-0.01, 0.01),
+            ];
+            if on_axis {
+                r[0] = 0.0;
+            }
+            let mut g = Geometry::new(&[0, 1, 2], &r, &z);
+            if g.two_area.abs() < 1e-6 {
+                continue;
+            }
+            if g.two_area < 0.0 {
+                // Make it counter-clockwise.
+                let (r2, z2) = ([r[0], r[2], r[1]], [z[0], z[2], z[1]]);
+                g = Geometry::new(&[0, 1, 2], &r2, &z2);
+            }
+            let vr = [
+                rng.range(-100.0, 100.0),
+                rng.range(-100.0, 100.0),
+                rng.range(-100.0, 100.0),
+            ];
+            let vz = [
+                rng.range(-100.0, 100.0),
+                rng.range(-100.0, 100.0),
+                rng.range(-100.0, 100.0),
+            ];
+            let s = Stress {
+                rr: rng.range(-1e9, 1e9),
+                zz: rng.range(-1e9, 1e9),
+                rz: rng.range(-1e9, 1e9),
+                tt: rng.range(-1e9, 1e9),
+            };
+            let d = StrainRate::new(&g, vr, vz);
+            let f = nodal_forces(&g, &s);
+            let power: f64 = (0..3)
+                .map(|k| f[2 * k] as f64 * vr[k] as f64 + f[2 * k + 1] as f64 * vz[k] as f64)
+                .sum();
+            let expected = -(g.volume() as f64) * s.power(&d) as f64;
+            // Scale of the individual products, for an f32 round-off bound.
+            let scale: f64 = (0..6).map(|k| (f[k] as f64).abs()).sum::<f64>() * 100.0;
+            assert!(
+                (power - expected).abs() <= 1e-5 * scale,
+                "case {case}: {power} vs {expected}"
+            );
+        }
+    }
+
+    /// A crossed-triangle patch of 2×2 quads around one interior node at radius `r0`.
+    fn patch(r0: f32, dz: f32) -> (Vec<f32>, Vec<f32>, Vec<[u32; 3]>, Vec<usize>) {
+        let mut r = Vec::new();
+        let mut z = Vec::new();
+        let h = 0.002;
+        for k in 0..3 {
+            for i in 0..3 {
+                r.push(r0 + i as f32 * h + if i == 1 && k == 1 { 0.0003 } else { 0.0 });
+                z.push(k as f32 * h + dz);
+            }
+        }
+        let mut elements = Vec::new();
+        for k in 0..2u32 {
+            for i in 0..2u32 {
+                let a = k * 3 + i;
+                let (b, c, d) = (a + 1, a + 4, a + 3);
+                let e = r.len() as u32;
+                let corners = [a, b, c, d];
+                r.push(corners.iter().map(|&n| r[n as usize]).sum::<f32>() / 4.0);
+                z.push(corners.iter().map(|&n| z[n as usize]).sum::<f32>() / 4.0);
+                for q in 0..4 {
+                    elements.push([corners[q], corners[(q + 1) % 4], e]);
+                }
+            }
+        }
+        // Interior nodes: the patch centre (4) and the four quad centres.
+        (r, z, elements, vec![4, 9, 10, 11, 12])
+    }
+
+    /// Uniform hydrostatic stress gives zero residual at interior nodes, on and off the axis.
+    #[test]
+    fn hydrostatic_patch_test() {
+        for r0 in [0.0f32, 0.05] {
+            let (r, z, elements, interior) = patch(r0, 0.01);
+            let mut f = vec![[0.0f64; 2]; r.len()];
+            let s = Stress {
+                rr: -1e9,
+                zz: -1e9,
+                rz: 0.0,
+                tt: -1e9,
+            };
+            let mut scale = 0.0f64;
+            for el in &elements {
+                let g = Geometry::new(el, &r, &z);
+                assert!(g.two_area > 0.0);
+                let fe = nodal_forces(&g, &s);
+                for k in 0..3 {
+                    f[el[k] as usize][0] += fe[2 * k] as f64;
+                    f[el[k] as usize][1] += fe[2 * k + 1] as f64;
+                    scale = scale.max((fe[2 * k] as f64).abs());
+                }
+            }
+            for &n in &interior {
+                let res = f[n][0].hypot(f[n][1]);
+                assert!(
+                    res < 1e-5 * scale,
+                    "r0 {r0}: node {n} residual {res} (element forces ~{scale})"
+                );
+            }
+            // The boundary does feel the pressure: the test is not vacuous.
+            assert!(f[0][0].abs() + f[0][1].abs() > 1e-2 * scale);
+        }
+    }
+
+    /// A rigid translation along z gives zero strain rate and no stress.
+    #[test]
+    fn rigid_translation_is_strain_free() {
+        let (r, z, elements, _) = patch(0.0, 0.0);
+        for el in &elements {
+            let g = Geometry::new(el, &r, &z);
+            let d = StrainRate::new(&g, [0.0; 3], [-300.0; 3]);
+            assert_eq!(
+                d,
+                StrainRate {
+                    rr: 0.0,
+                    zz: 0.0,
+                    gamma_rz: 0.0,
+                    tt: 0.0,
+                    spin: 0.0
+                }
+            );
+        }
+    }
+}

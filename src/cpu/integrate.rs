@@ -1,0 +1,176 @@
+//! `integrate`: leapfrog velocities then positions (physics.md §5), the axis constraint, the
+//! rigid wall, and the stable time step (a min-reduction over particles and elements).
+
+use rayon::prelude::*;
+
+use crate::kernel;
+use crate::state::{Elements, Nodes, Particles, SphParams};
+
+/// Where a run went unstable.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Blowup {
+    pub what: &'static str,
+    pub index: usize,
+    pub r: f32,
+    pub z: f32,
+    pub reason: &'static str,
+}
+
+/// Advance particles over `dt`: v += a dt (zero for fixed particles), x += v dt, keep them
+/// ≥ 0.1 h off the axis. Fails on a non-finite value or a particle beyond `escape` of the origin.
+pub fn particles(
+    p: &mut Particles,
+    params: &SphParams,
+    dt: f32,
+    escape: f32,
+) -> Result<(), Blowup> {
+    let r_min = 0.1 * params.h;
+    let Particles {
+        r,
+        z,
+        vr,
+        vz,
+        ar,
+        az,
+        fixed,
+        ..
+    } = p;
+    let (ar, az, fixed) = (&*ar, &*az, &*fixed);
+    let bad = r
+        .par_iter_mut()
+        .zip(z.par_iter_mut())
+        .zip(vr.par_iter_mut())
+        .zip(vz.par_iter_mut())
+        .enumerate()
+        .map(|(i, (((r, z), vr), vz))| {
+            if fixed[i] != 0 {
+                *vr = 0.0;
+                *vz = 0.0;
+                return None;
+            }
+            *vr += dt * ar[i];
+            *vz += dt * az[i];
+            *r += dt * *vr;
+            *z += dt * *vz;
+            if *r < r_min {
+                *r = r_min;
+                *vr = vr.max(0.0);
+            }
+            check("particle", i, *r, *z, *vr, *vz, escape)
+        })
+        .find_first(|b| b.is_some())
+        .flatten();
+    bad.map_or(Ok(()), Err)
+}
+
+/// Advance projectile nodes over `dt`: v += F/m dt, ṙ = 0 on the axis, x += v dt. The rigid
+/// wall `wall_z` is a frictionless constraint: a node resting on it gets no force into it (the
+/// wall's reaction), and a node arriving at it is put on it with its normal velocity removed (a
+/// perfectly inelastic impact of that node); the kinetic energy so lost is returned (J).
+pub fn nodes(n: &mut Nodes, dt: f32, wall_z: Option<f32>, escape: f32) -> Result<f64, Blowup> {
+    let Nodes {
+        r,
+        z,
+        vr,
+        vz,
+        fr,
+        fz,
+        mass,
+        on_axis,
+        ..
+    } = n;
+    let (fr, fz, mass, on_axis) = (&*fr, &*fz, &*mass, &*on_axis);
+    let results: Vec<(f64, Option<Blowup>)> = r
+        .par_iter_mut()
+        .zip(z.par_iter_mut())
+        .zip(vr.par_iter_mut())
+        .zip(vz.par_iter_mut())
+        .enumerate()
+        .map(|(i, (((r, z), vr), vz))| {
+            let inv_m = 1.0 / mass[i];
+            *vr = if on_axis[i] != 0 {
+                0.0
+            } else {
+                *vr + dt * fr[i] * inv_m
+            };
+            let resting = wall_z.is_some_and(|wz| *z <= wz);
+            let f_z = if resting { fz[i].max(0.0) } else { fz[i] };
+            *vz += dt * f_z * inv_m;
+            *r += dt * *vr;
+            *z += dt * *vz;
+            let mut lost = 0.0;
+            if let Some(wz) = wall_z {
+                if *z < wz {
+                    *z = wz;
+                    if *vz < 0.0 {
+                        lost = 0.5 * mass[i] as f64 * (*vz as f64).powi(2);
+                        *vz = 0.0;
+                    }
+                }
+            }
+            (lost, check("node", i, *r, *z, *vr, *vz, escape))
+        })
+        .collect();
+    let mut lost = 0.0;
+    for (l, b) in results {
+        if let Some(b) = b {
+            return Err(b);
+        }
+        lost += l;
+    }
+    Ok(lost)
+}
+
+fn check(
+    what: &'static str,
+    index: usize,
+    r: f32,
+    z: f32,
+    vr: f32,
+    vz: f32,
+    escape: f32,
+) -> Option<Blowup> {
+    if !(r.is_finite() && z.is_finite() && vr.is_finite() && vz.is_finite()) {
+        return Some(Blowup {
+            what,
+            index,
+            r,
+            z,
+            reason: "non-finite position or velocity",
+        });
+    }
+    if r.abs() > escape || z.abs() > escape {
+        return Some(Blowup {
+            what,
+            index,
+            r,
+            z,
+            reason: "escaped far beyond the scene",
+        });
+    }
+    None
+}
+
+/// Stable step of the particles: h / (c + |v| + 1.2 (α c + β μ_max)) (Monaghan 1992, with the
+/// viscosity refinement of physics.md §3).
+pub fn particle_dt(p: &Particles, params: &SphParams) -> f32 {
+    let h = params.h;
+    (0..p.len())
+        .into_par_iter()
+        .map(|i| {
+            let c = p.sound[i];
+            let v = (p.vr[i] * p.vr[i] + p.vz[i] * p.vz[i]).sqrt();
+            h / (c + v + 1.2 * (params.alpha * c + params.beta * p.mu_visc[i]))
+        })
+        .reduce(|| f32::MAX, f32::min)
+}
+
+/// Stable step of the elements (computed by `fem_stress`).
+pub fn element_dt(e: &Elements) -> f32 {
+    e.dt.par_iter().copied().reduce(|| f32::MAX, f32::min)
+}
+
+/// Support radius of the kernel for a smoothing length.
+pub fn support(params: &SphParams) -> f32 {
+    kernel::SUPPORT * params.h
+}

@@ -1,0 +1,131 @@
+//! `sph_forces`: particle accelerations, gathered over neighbours and axis ghosts
+//! (physics.md §3): the symmetric planar pair term with per-radian-area masses m̃ = m/(2π r),
+//! `a_i = Σ_j m̃_j [σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I (+ R_ij f_ij^n)] · ∇_i W_ij`, plus the hoop
+//! sources `a_r += (S_rr − S_θθ)/(ρ r)`, `a_z += S_rz/(ρ r)`. Monaghan–Gingold viscosity Π_ij
+//! with its heating, Gray–Monaghan artificial stress R when enabled.
+
+use rayon::prelude::*;
+
+use super::neighbours::{for_each_neighbour, CellGrid};
+use super::sph_rates::hoop_radius;
+use crate::kernel;
+use crate::state::{Particles, SphParams};
+
+/// η² of the viscosity's singularity guard, in units of h².
+const ETA2: f32 = 0.01;
+
+pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
+    let h = params.h;
+    let support = kernel::SUPPORT * h;
+    let Particles {
+        r,
+        z,
+        vr,
+        vz,
+        ar,
+        az,
+        rho,
+        p,
+        s_rr,
+        s_zz,
+        s_rz,
+        s_tt,
+        sound,
+        de_visc,
+        mu_visc,
+        m_tilde,
+        ..
+    } = particles;
+    let (r, z, vr, vz, rho, p, s_rr, s_zz, s_rz, s_tt, sound, m_tilde) = (
+        &*r, &*z, &*vr, &*vz, &*rho, &*p, &*s_rr, &*s_zz, &*s_rz, &*s_tt, &*sound, &*m_tilde,
+    );
+    // Total stress (rr, zz, rz) over ρ².
+    let sigma = |j: usize| {
+        let inv = 1.0 / (rho[j] * rho[j]);
+        [
+            (s_rr[j] - p[j]) * inv,
+            (s_zz[j] - p[j]) * inv,
+            s_rz[j] * inv,
+        ]
+    };
+    let art = |j: usize| {
+        artificial_stress(
+            params.art_stress_eps,
+            s_rr[j] - p[j],
+            s_zz[j] - p[j],
+            s_rz[j],
+            rho[j],
+        )
+    };
+    ar.par_iter_mut()
+        .zip(az.par_iter_mut())
+        .zip(de_visc.par_iter_mut())
+        .zip(mu_visc.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (((ar, az), de), mu_out))| {
+            let si = sigma(i);
+            let ri_art = if params.art_stress_eps > 0.0 {
+                art(i)
+            } else {
+                [0.0; 3]
+            };
+            let mut acc = [0.0f32; 2];
+            let mut heat = 0.0f32;
+            let mut mu_max = 0.0f32;
+            for_each_neighbour(grid, r, z, i, support, |nb| {
+                let j = nb.j;
+                let sign = if nb.mirror { -1.0 } else { 1.0 };
+                let mj = m_tilde[j];
+                let gw = kernel::grad(nb.dr, nb.dz, nb.dist, h);
+                let sj = sigma(j);
+                let mut t = [si[0] + sj[0], si[1] + sj[1], si[2] + sign * sj[2]];
+
+                let dvr = vr[i] - sign * vr[j];
+                let dvz = vz[i] - vz[j];
+                let vx = dvr * nb.dr + dvz * nb.dz;
+                if vx < 0.0 {
+                    let mu = h * vx / (nb.dist * nb.dist + ETA2 * h * h);
+                    let c_mean = 0.5 * (sound[i] + sound[j]);
+                    let rho_mean = 0.5 * (rho[i] + rho[j]);
+                    let pi = (-params.alpha * c_mean * mu + params.beta * mu * mu) / rho_mean;
+                    t[0] -= pi;
+                    t[1] -= pi;
+                    heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]);
+                    mu_max = mu_max.max(-mu);
+                }
+                if params.art_stress_eps > 0.0 {
+                    let rj = art(j);
+                    let f = (kernel::w(nb.dist, h) / params.w_spacing).powf(params.art_stress_n);
+                    t[0] += f * (ri_art[0] + rj[0]);
+                    t[1] += f * (ri_art[1] + rj[1]);
+                    t[2] += f * (ri_art[2] + sign * rj[2]);
+                }
+                acc[0] += mj * (t[0] * gw[0] + t[2] * gw[1]);
+                acc[1] += mj * (t[2] * gw[0] + t[1] * gw[1]);
+            });
+            let rr = hoop_radius(r[i], h);
+            acc[0] += (s_rr[i] - s_tt[i]) / (rho[i] * rr);
+            acc[1] += s_rz[i] / (rho[i] * rr);
+            *ar = acc[0];
+            *az = acc[1];
+            *de = heat;
+            *mu_out = mu_max;
+        });
+}
+
+/// Gray–Monaghan (2001) artificial stress over ρ² in (rr, zz, rz): R = −ε σ'/ρ² on each
+/// tensile principal stress σ' of the r–z plane, rotated back; zero for compression.
+fn artificial_stress(eps: f32, srr: f32, szz: f32, srz: f32, rho: f32) -> [f32; 3] {
+    let theta = 0.5 * (2.0 * srz).atan2(srr - szz);
+    let (sn, cs) = theta.sin_cos();
+    let s1 = cs * cs * srr + 2.0 * cs * sn * srz + sn * sn * szz;
+    let s2 = sn * sn * srr - 2.0 * cs * sn * srz + cs * cs * szz;
+    let inv = -eps / (rho * rho);
+    let r1 = if s1 > 0.0 { inv * s1 } else { 0.0 };
+    let r2 = if s2 > 0.0 { inv * s2 } else { 0.0 };
+    [
+        cs * cs * r1 + sn * sn * r2,
+        sn * sn * r1 + cs * cs * r2,
+        cs * sn * (r1 - r2),
+    ]
+}

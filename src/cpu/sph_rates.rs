@@ -1,0 +1,102 @@
+//! `sph_rates`: velocity gradient and density rate of every particle, gathered over its
+//! neighbours and axis ghosts (physics.md §3).
+//!
+//! With per-radian-area masses m̃ = m/(2π r) the planar SPH sums hold in the (r, z) plane:
+//! a particle's area is m̃/ρ. `G = Σ_j (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij` is corrected by the
+//! inverse of `M = Σ_j (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇_i W_ij` (exact for linear fields) where M is
+//! well conditioned; `ρ̇ = −ρ (L_rr + L_zz + v_r/r)`.
+
+use rayon::prelude::*;
+
+use super::neighbours::{for_each_neighbour, CellGrid};
+use crate::kernel;
+use crate::state::{Particles, SphParams};
+
+const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
+
+/// det M below which the correction is not applied (near a free surface with few neighbours).
+const MIN_CORRECTION_DET: f32 = 0.25;
+
+/// Radius used for 1/r terms: particles are kept ≥ 0.1 h off the axis (physics.md §3).
+#[inline]
+pub fn hoop_radius(r: f32, h: f32) -> f32 {
+    r.max(0.1 * h)
+}
+
+pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
+    let h = params.h;
+    let support = kernel::SUPPORT * h;
+    let Particles {
+        r,
+        z,
+        vr,
+        vz,
+        mass,
+        rho,
+        l_rr,
+        l_rz,
+        l_zr,
+        l_zz,
+        drho,
+        m_tilde,
+        area,
+        ..
+    } = particles;
+    m_tilde
+        .par_iter_mut()
+        .zip(area.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (mt, a))| {
+            *mt = mass[i] / (TWO_PI * hoop_radius(r[i], h));
+            *a = *mt / rho[i];
+        });
+    let (r, z, vr, vz, rho, area) = (&*r, &*z, &*vr, &*vz, &*rho, &*area);
+    l_rr.par_iter_mut()
+        .zip(l_rz.par_iter_mut())
+        .zip(l_zr.par_iter_mut())
+        .zip(l_zz.par_iter_mut())
+        .zip(drho.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, ((((lrr, lrz), lzr), lzz), dr_out))| {
+            let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
+            let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
+            for_each_neighbour(grid, r, z, i, support, |nb| {
+                let j = nb.j;
+                let area = area[j];
+                let gw = kernel::grad(nb.dr, nb.dz, nb.dist, h);
+                let vrj = if nb.mirror { -vr[j] } else { vr[j] };
+                let dvr = vrj - vr[i];
+                let dvz = vz[j] - vz[i];
+                // x_j − x_i = −(dr, dz)
+                g[0] += area * dvr * gw[0];
+                g[1] += area * dvr * gw[1];
+                g[2] += area * dvz * gw[0];
+                g[3] += area * dvz * gw[1];
+                m[0] -= area * nb.dr * gw[0];
+                m[1] -= area * nb.dr * gw[1];
+                m[2] -= area * nb.dz * gw[0];
+                m[3] -= area * nb.dz * gw[1];
+            });
+            let l = correct(g, m);
+            *lrr = l[0];
+            *lrz = l[1];
+            *lzr = l[2];
+            *lzz = l[3];
+            *dr_out = -rho[i] * (l[0] + l[3] + vr[i] / hoop_radius(r[i], h));
+        });
+}
+
+/// L = G M⁻¹ where det M is large enough, else G.
+fn correct(g: [f32; 4], m: [f32; 4]) -> [f32; 4] {
+    let det = m[0] * m[3] - m[1] * m[2];
+    if det < MIN_CORRECTION_DET {
+        return g;
+    }
+    let inv = [m[3] / det, -m[1] / det, -m[2] / det, m[0] / det];
+    [
+        g[0] * inv[0] + g[1] * inv[2],
+        g[0] * inv[1] + g[1] * inv[3],
+        g[2] * inv[0] + g[3] * inv[2],
+        g[2] * inv[1] + g[3] * inv[3],
+    ]
+}

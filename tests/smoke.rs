@@ -1,0 +1,157 @@
+//! Short end-to-end runs of the shipped smoke case, and the command line's handling of bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use penetrate::scene;
+use penetrate::solver::{self, RunOptions, Simulation};
+
+fn case(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(name)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penetrate-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// A short coupled run completes with finite fields and writes its outputs.
+#[test]
+fn smoke_case_runs_with_finite_fields() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let out = scratch("smoke");
+    let outcome = solver::run(
+        &scene,
+        &RunOptions {
+            out: out.clone(),
+            quiet: true,
+            vtk: true,
+        },
+    )
+    .unwrap();
+    let s = &outcome.summary;
+    assert!(outcome.ok, "status: {}", s.status);
+    assert_eq!(s.status, "completed");
+    assert!(s.steps > 10);
+    for (name, v) in [
+        ("depth", s.depth_m),
+        ("velocity", s.projectile_velocity_m_s),
+        ("energy_error", s.energy_error),
+        ("momentum_error", s.momentum_error),
+        ("max_damage", s.max_damage),
+    ] {
+        assert!(v.is_finite(), "{name} = {v}");
+    }
+    assert!(s.depth_m > 0.0, "the projectile entered the target");
+    assert!(
+        s.projectile_velocity_m_s < scene.projectile.velocity,
+        "and was slowed down"
+    );
+    for f in [
+        "summary.json",
+        "history.csv",
+        "frames.pvd",
+        "target_00000.vtu",
+        "projectile_00000.vtu",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "depth_m",
+        "projectile_velocity_m_s",
+        "max_damage",
+        "max_plastic_strain",
+        "final_length_m",
+        "max_radius_m",
+        "steps",
+        "particles",
+        "elements",
+        "wall_s",
+        "backend",
+        "adapter",
+        "energy_error",
+        "momentum_error",
+        "passes",
+        "status",
+    ] {
+        assert!(json.get(key).is_some(), "summary.json lacks {key}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// λ = 0: the projectile moves rigidly (no stress pass, all nodes with one velocity, zero
+/// strain) while the target is pushed.
+#[test]
+fn lambda_zero_projectile_is_rigid() {
+    let scene = scene::load(&case("smoke.toml"), &["contact.lambda=0".to_string()]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    for _ in 0..300 {
+        sim.step().unwrap();
+    }
+    assert!(sim.account.contact_dissipated > 0.0, "contact happened");
+    let n = &sim.projectile.nodes;
+    assert!(n.vr.iter().all(|&v| v == 0.0));
+    assert!(
+        n.vz.iter().all(|&v| v == n.vz[0]),
+        "one velocity for every node"
+    );
+    assert!(n.vz[0] > -(scene.projectile.velocity as f32), "slowed down");
+    assert_eq!(sim.max_plastic_strain(), 0.0);
+    assert!(!sim
+        .pass_names("cpu")
+        .iter()
+        .any(|p| p.starts_with("fem_stress")));
+}
+
+/// Bad input on the command line: exit code 2, a one-line message naming the file, no panic.
+#[test]
+fn cli_rejects_bad_input_without_panicking() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.toml");
+    let text = std::fs::read_to_string(case("smoke.toml"))
+        .unwrap()
+        .replace("velocity = 300", "velocity = -300");
+    assert!(
+        text.contains("velocity = -300"),
+        "smoke.toml changed shape: update this test"
+    );
+    std::fs::write(&bad, text).unwrap();
+    for args in [
+        vec!["run".to_string(), bad.display().to_string()],
+        vec!["check".to_string(), bad.display().to_string()],
+        vec![
+            "run".to_string(),
+            case("smoke.toml").display().to_string(),
+            "--set".into(),
+            "target.fcc=3".into(),
+        ],
+        vec![
+            "run".to_string(),
+            dir.join("missing.toml").display().to_string(),
+        ],
+    ] {
+        let out = Command::new(bin).args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let out = Command::new(bin)
+        .args(["check", &case("smoke.toml").display().to_string()])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("projectile.velocity") && text.contains("particles"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

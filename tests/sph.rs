@@ -1,0 +1,117 @@
+//! SPH target without a projectile (physics.md §3): rest stays rest, linear velocity fields give
+//! exact velocity gradients (axis ghosts included).
+
+use penetrate::cpu::{concrete, integrate, neighbours, sph_forces, sph_rates};
+use penetrate::materials::hjc::Hjc;
+use penetrate::mesh::target::lattice;
+use penetrate::scene::TargetSpec;
+use penetrate::state::{Particles, SphParams};
+
+fn spec(fix: bool) -> TargetSpec {
+    TargetSpec {
+        radius: 0.04,
+        thickness: 0.04,
+        spacing: 0.002,
+        smoothing_ratio: 1.5,
+        fix_rear: fix,
+        fix_lateral: fix,
+        artificial_stress: true,
+        viscosity_alpha: 1.0,
+        viscosity_beta: 2.0,
+        concrete: Hjc::from_fc(35e6, 2370.0),
+    }
+}
+
+fn target(spec: &TargetSpec) -> (Particles, SphParams) {
+    let l = lattice(
+        spec.radius,
+        spec.thickness,
+        spec.spacing,
+        spec.concrete.density as f64,
+    )
+    .unwrap();
+    (Particles::from_lattice(&l, spec), SphParams::new(spec))
+}
+
+/// A target at rest with no projectile stays at rest: |v| < 1e-6 m/s after 1000 steps, the
+/// particles next to the axis included.
+#[test]
+fn target_at_rest_stays_at_rest() {
+    let s = spec(true);
+    let (mut p, params) = target(&s);
+    let mut grid = neighbours::CellGrid::default();
+    let support = integrate::support(&params);
+    let dt = 0.3 * integrate::particle_dt(&p, &params);
+    for _ in 0..1000 {
+        integrate::particles(&mut p, &params, dt, 10.0).unwrap();
+        neighbours::run(&mut grid, &p.r, &p.z, support);
+        sph_rates::run(&mut p, &grid, &params);
+        concrete::run(&mut p, &params, dt);
+        sph_forces::run(&mut p, &grid, &params);
+    }
+    let vmax = (0..p.len())
+        .map(|i| p.vr[i].hypot(p.vz[i]))
+        .fold(0.0f32, f32::max);
+    assert!(vmax < 1e-6, "max |v| = {vmax} m/s");
+    let near_axis = (0..p.len()).filter(|&i| p.r[i] < params.h).count();
+    assert!(near_axis > 10);
+}
+
+/// A uniform velocity along the axis gives zero velocity gradient and density rate everywhere;
+/// the admissible linear field v_r = a r, v_z = b z gives L_rr = a, L_zz = b and
+/// ρ̇ = −ρ (2a + b) at every interior particle, next to the axis too.
+#[test]
+fn velocity_gradient_is_exact_for_uniform_and_linear_fields() {
+    let s = spec(false);
+    let (mut p, params) = target(&s);
+    let mut grid = neighbours::CellGrid::default();
+    neighbours::run(&mut grid, &p.r, &p.z, integrate::support(&params));
+
+    for i in 0..p.len() {
+        p.vz[i] = -250.0;
+    }
+    sph_rates::run(&mut p, &grid, &params);
+    for i in 0..p.len() {
+        assert_eq!(
+            (p.l_rr[i], p.l_rz[i], p.l_zr[i], p.l_zz[i], p.drho[i]),
+            (0.0, 0.0, 0.0, 0.0, 0.0),
+            "particle {i}"
+        );
+    }
+
+    let (a, b) = (300.0f32, -500.0f32);
+    for i in 0..p.len() {
+        p.vr[i] = a * p.r[i];
+        p.vz[i] = b * p.z[i];
+    }
+    sph_rates::run(&mut p, &grid, &params);
+    let support = integrate::support(&params) as f64;
+    let mut checked = 0;
+    for i in 0..p.len() {
+        let (r, z) = (p.r[i] as f64, p.z[i] as f64);
+        // Interior: a full support from the free faces (the axis is not a free face).
+        if r + support > s.radius || z + support > 0.0 || z - support < -s.thickness {
+            continue;
+        }
+        let tol = 1e-3 * a.abs().max(b.abs());
+        assert!(
+            (p.l_rr[i] - a).abs() < tol,
+            "particle {i} at r {r}: L_rr {}",
+            p.l_rr[i]
+        );
+        assert!(
+            (p.l_zz[i] - b).abs() < tol,
+            "particle {i}: L_zz {}",
+            p.l_zz[i]
+        );
+        assert!(p.l_rz[i].abs() < tol && p.l_zr[i].abs() < tol);
+        let expected = -p.rho[i] * (2.0 * a + b);
+        assert!(
+            (p.drho[i] - expected).abs() < 1e-3 * expected.abs(),
+            "particle {i}: ρ̇ {} vs {expected}",
+            p.drho[i]
+        );
+        checked += 1;
+    }
+    assert!(checked > 50);
+}
