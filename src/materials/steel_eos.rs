@@ -8,53 +8,80 @@ pub struct PolyEos {
     pub k3: f32,
     pub gamma: f32,
 }
-/// Pressure, paper eq. (14): p = K₁μ + K₂μ² + K₃μ³ + Γ E (1 + μ) for μ ≥ 0 and
-/// p = K₁μ + Γ E (1 + μ) for μ < 0 (physics.md §2.2); μ = ρ/ρ₀ − 1, E internal energy per unit
-/// reference volume (J/m³).
+
+/// Floor of the bulk tangent as a fraction of K₁: with K₂ < 0 sets the cubic's slope could dip
+/// towards zero or below, and the sound speed sqrt((K + 4G/3)/ρ) must stay real and not vanish.
+pub const BULK_TANGENT_FLOOR: f32 = 0.1;
+
+/// Pressure, paper eq. (14), physics.md §2.2 (Pa, compression-positive):
+/// p = K₁μ + K₂μ² + K₃μ³ + ΓE(1 + μ) for μ ≥ 0 and p = K₁μ + ΓE(1 + μ) for μ < 0, with
+/// μ = ρ/ρ₀ − 1 and E the internal energy per unit reference volume (J/m³).
 pub fn pressure(eos: &PolyEos, mu: f32, e_vol: f32) -> f32 {
-    let cold = if mu >= 0.0 {
-        mu * (eos.k1 + mu * (eos.k2 + mu * eos.k3))
-    } else {
-        eos.k1 * mu
-    };
-    cold + eos.gamma * e_vol * (1.0 + mu)
+    // The higher-order terms only act in compression; max(μ, 0) does that without a branch.
+    let mc = mu.max(0.0);
+    eos.k1 * mu + (eos.k2 + eos.k3 * mc) * mc * mc + eos.gamma * e_vol * (1.0 + mu)
 }
 
-/// dp/dμ of the cold curve, for the sound speed: K₁ + 2K₂μ + 3K₃μ² (μ ≥ 0), K₁ below; floored
-/// at 0.1 K₁ so the sound speed stays real however the polynomial bends.
+/// Cold bulk tangent dp/dμ of eq. (14) (Pa): K₁ + 2K₂μ + 3K₃μ² for μ ≥ 0, K₁ for μ < 0, floored
+/// at [`BULK_TANGENT_FLOOR`]·K₁ so the sound speed stays real.
 pub fn bulk_tangent(eos: &PolyEos, mu: f32) -> f32 {
-    if mu >= 0.0 {
-        (eos.k1 + mu * (2.0 * eos.k2 + 3.0 * eos.k3 * mu)).max(0.1 * eos.k1)
-    } else {
-        eos.k1
-    }
+    let mc = mu.max(0.0);
+    (eos.k1 + (2.0 * eos.k2 + 3.0 * eos.k3 * mc) * mc).max(BULK_TANGENT_FLOOR * eos.k1)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const EOS: PolyEos = PolyEos {
-        k1: 163e9,
-        k2: 294e9,
-        k3: 140e9,
-        gamma: 1.16,
-    };
+    /// The paper's 4340 constants (physics.md §2.2).
+    fn steel() -> PolyEos {
+        PolyEos {
+            k1: 163.0e9,
+            k2: 294.0e9,
+            k3: 140.0e9,
+            gamma: 1.16,
+        }
+    }
 
-    /// By hand, with the paper's 4340 constants:
-    /// μ = 0.02, E = 0: 163e9·0.02 + 294e9·4e-4 + 140e9·8e-6 = 3.26e9 + 0.1176e9 + 0.00112e9 = 3.37872e9;
-    /// μ = 0.1, E = 1e8: 16.3e9 + 2.94e9 + 0.14e9 + 1.16·1e8·1.1 = 19.38e9 + 0.1276e9 = 19.5076e9;
-    /// μ = −0.01, E = 0: −1.63e9.
+    fn assert_rel(got: f32, want: f64, tol: f64) {
+        let err = ((got as f64 - want) / want).abs();
+        assert!(
+            err <= tol,
+            "got {got}, want {want}, relative error {err:e} > {tol:e}"
+        );
+    }
+
     #[test]
-    fn pressure_by_hand() {
-        let close = |a: f32, b: f64| ((a as f64 - b) / b).abs() < 1e-5;
-        assert!(close(pressure(&EOS, 0.02, 0.0), 3.37872e9));
-        assert!(close(pressure(&EOS, 0.1, 1e8), 19.5076e9));
-        assert!(close(pressure(&EOS, -0.01, 0.0), -1.63e9));
-        assert!(close(
-            bulk_tangent(&EOS, 0.1),
-            163e9 + 2.0 * 294e9 * 0.1 + 3.0 * 140e9 * 0.01
-        ));
-        assert_eq!(bulk_tangent(&EOS, -0.05), 163e9);
+    fn pressure_matches_eq_14() {
+        let eos = steel();
+        // μ = −0.01, E = 1e8 J/m³: K₁μ + ΓE(1+μ) = −1.63e9 + 1.16e8·0.99 = −1.63e9 + 0.11484e9
+        //   = −1.51516e9 (no K₂, K₃ in tension)
+        assert_rel(pressure(&eos, -0.01, 1.0e8), -1.51516e9, 1e-5);
+        // μ = 0.02, E = 1e8: 3.26e9 + 294e9·4e-4 + 140e9·8e-6 + 1.16e8·1.02
+        //   = 3.26e9 + 0.1176e9 + 0.00112e9 + 0.11832e9 = 3.49704e9
+        assert_rel(pressure(&eos, 0.02, 1.0e8), 3.49704e9, 1e-5);
+        // μ = 0.1, E = 0: 16.3e9 + 2.94e9 + 0.14e9 = 19.38e9
+        assert_rel(pressure(&eos, 0.1, 0.0), 19.38e9, 1e-5);
+        // μ = 0.1, E = 1e8: 19.38e9 + 1.16e8·1.1 = 19.5076e9
+        assert_rel(pressure(&eos, 0.1, 1.0e8), 19.5076e9, 1e-5);
+    }
+
+    #[test]
+    fn bulk_tangent_matches_derivative_and_floor() {
+        let eos = steel();
+        // μ < 0: K₁ = 163 GPa
+        assert_rel(bulk_tangent(&eos, -0.01), 163.0e9, 1e-6);
+        // μ = 0.02: 163e9 + 2·294e9·0.02 + 3·140e9·4e-4 = 163e9 + 11.76e9 + 0.168e9 = 174.928e9
+        assert_rel(bulk_tangent(&eos, 0.02), 174.928e9, 1e-5);
+        // μ = 0.1: 163e9 + 58.8e9 + 4.2e9 = 226e9
+        assert_rel(bulk_tangent(&eos, 0.1), 226.0e9, 1e-5);
+        // A softening set (K₂ < 0) is floored at 0.1 K₁: 100e9 − 2·1000e9·0.1 < 0 → 10e9.
+        let soft = PolyEos {
+            k1: 100.0e9,
+            k2: -1000.0e9,
+            k3: 0.0,
+            gamma: 0.0,
+        };
+        assert_rel(bulk_tangent(&soft, 0.1), 10.0e9, 1e-6);
     }
 }
