@@ -99,7 +99,7 @@ pub fn correct(
         let v_s = [b.slave_vr[s], b.slave_vz[s]];
         let dot = |v: [f32; 2]| v[0] * n[0] + v[1] * n[1];
         let closing = w_a * dot(v_a) + w_b * dot(v_b) - dot(v_s);
-        if !(closing > 0.0) {
+        if closing.is_nan() || closing <= 0.0 {
             continue;
         }
         stats.closing += 1;

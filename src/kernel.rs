@@ -8,44 +8,68 @@ const SIGMA_2D: f32 = 10.0 / (7.0 * std::f32::consts::PI);
 /// Support radius over h.
 pub const SUPPORT: f32 = 2.0;
 
-/// Kernel value at distance `dist`.
-#[inline]
-pub fn w(dist: f32, h: f32) -> f32 {
-    let q = dist / h;
-    let norm = SIGMA_2D / (h * h);
-    if q < 1.0 {
-        norm * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
-    } else if q < 2.0 {
-        let t = 2.0 - q;
-        norm * 0.25 * t * t * t
-    } else {
-        0.0
-    }
+/// The kernel for one smoothing length, with its normalisations precomputed (the inner SPH
+/// loops call it once per pair).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Kernel {
+    pub h: f32,
+    inv_h: f32,
+    norm: f32,
+    dnorm: f32,
 }
 
-/// dW/d|x| at distance `dist` (≤ 0 inside the support).
-#[inline]
-pub fn dw(dist: f32, h: f32) -> f32 {
-    let q = dist / h;
-    let norm = SIGMA_2D / (h * h * h);
-    if q < 1.0 {
-        norm * (-3.0 * q + 2.25 * q * q)
-    } else if q < 2.0 {
-        let t = 2.0 - q;
-        norm * (-0.75 * t * t)
-    } else {
-        0.0
+impl Kernel {
+    pub fn new(h: f32) -> Kernel {
+        Kernel {
+            h,
+            inv_h: 1.0 / h,
+            norm: SIGMA_2D / (h * h),
+            dnorm: SIGMA_2D / (h * h * h),
+        }
     }
-}
 
-/// ∇_i W(x_i − x_j) for the separation (dr, dz) = x_i − x_j at distance `dist`.
-#[inline]
-pub fn grad(dr: f32, dz: f32, dist: f32, h: f32) -> [f32; 2] {
-    if dist <= 1.0e-12 * h {
-        return [0.0, 0.0];
+    /// Support radius 2h.
+    pub fn support(&self) -> f32 {
+        SUPPORT * self.h
     }
-    let f = dw(dist, h) / dist;
-    [f * dr, f * dz]
+
+    /// Kernel value at distance `dist`.
+    #[inline]
+    pub fn w(&self, dist: f32) -> f32 {
+        let q = dist * self.inv_h;
+        if q < 1.0 {
+            self.norm * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
+        } else if q < 2.0 {
+            let t = 2.0 - q;
+            self.norm * 0.25 * t * t * t
+        } else {
+            0.0
+        }
+    }
+
+    /// dW/d|x| at distance `dist` (≤ 0 inside the support).
+    #[inline]
+    pub fn dw(&self, dist: f32) -> f32 {
+        let q = dist * self.inv_h;
+        if q < 1.0 {
+            self.dnorm * (-3.0 * q + 2.25 * q * q)
+        } else if q < 2.0 {
+            let t = 2.0 - q;
+            self.dnorm * (-0.75 * t * t)
+        } else {
+            0.0
+        }
+    }
+
+    /// ∇_i W(x_i − x_j) for the separation (dr, dz) = x_i − x_j at distance `dist`.
+    #[inline]
+    pub fn grad(&self, dr: f32, dz: f32, dist: f32) -> [f32; 2] {
+        if dist <= 1.0e-12 * self.h {
+            return [0.0, 0.0];
+        }
+        let f = self.dw(dist) / dist;
+        [f * dr, f * dz]
+    }
 }
 
 #[cfg(test)]
@@ -55,7 +79,7 @@ mod tests {
     /// ∫ W dA = 1 over the plane (midpoint rule on a fine grid).
     #[test]
     fn kernel_is_normalised() {
-        let h = 1.0;
+        let k = Kernel::new(1.0);
         let n = 400;
         let d = 4.0 / n as f32;
         let mut sum = 0.0f64;
@@ -63,7 +87,7 @@ mod tests {
             for j in 0..n {
                 let x = -2.0 + (i as f32 + 0.5) * d;
                 let y = -2.0 + (j as f32 + 0.5) * d;
-                sum += (w((x * x + y * y).sqrt(), h) * d * d) as f64;
+                sum += (k.w((x * x + y * y).sqrt()) * d * d) as f64;
             }
         }
         assert!((sum - 1.0).abs() < 1e-3, "∫W = {sum}");
@@ -72,14 +96,14 @@ mod tests {
     /// dW matches a central difference of W.
     #[test]
     fn derivative_matches_finite_difference() {
-        let h = 0.7;
-        for k in 1..27 {
-            let x = 0.05 * k as f32;
-            let fd = (w(x + 1e-3, h) - w(x - 1e-3, h)) / 2e-3;
+        let k = Kernel::new(0.7);
+        for i in 1..27 {
+            let x = 0.05 * i as f32;
+            let fd = (k.w(x + 1e-3) - k.w(x - 1e-3)) / 2e-3;
             assert!(
-                (fd - dw(x, h)).abs() < 2e-2 * (1.0 + fd.abs()),
+                (fd - k.dw(x)).abs() < 2e-2 * (1.0 + fd.abs()),
                 "x {x}: {fd} vs {}",
-                dw(x, h)
+                k.dw(x)
             );
         }
     }

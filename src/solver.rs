@@ -74,7 +74,7 @@ pub struct Account {
     pub initial_momentum: f64,
     pub contact_dissipated: f64,
     pub wall_dissipated: f64,
-    /// z-impulse taken by fixed boundaries and the wall (N s).
+    /// z-impulse exerted on the model by fixed boundaries and the wall (N s).
     pub boundary_impulse: f64,
     pub plastic_work: f64,
     pub max_penetration: f32,
@@ -243,23 +243,24 @@ impl Simulation {
             ))
         };
         if let Some(sph) = &self.sph {
-            // Impulse the fixed boundary takes: what its particles would have gained.
+            // Impulse the fixed boundary exerts on the rest: minus what its particles would
+            // have gained from their neighbours.
             let p = &self.particles;
-            self.account.boundary_impulse += (0..p.len())
+            self.account.boundary_impulse -= (0..p.len())
                 .filter(|&i| p.fixed[i] != 0)
                 .map(|i| p.mass[i] as f64 * p.az[i] as f64 * dt as f64)
                 .sum::<f64>();
             cpu::integrate::particles(&mut self.particles, sph, dt, self.escape)
                 .map_err(|b| blowup(b, self.step, self.time))?;
         }
-        let vz_before: f64 = self.projectile_momentum();
+        let p_before = self.projectile_momentum();
         let lost = cpu::integrate::nodes(&mut self.projectile.nodes, dt, self.wall_z, self.escape)
             .map_err(|b| blowup(b, self.step, self.time))?;
         if self.wall_z.is_some() {
             self.account.wall_dissipated += lost;
             let forces: f64 = self.projectile.nodes.fz.iter().map(|&f| f as f64).sum();
             self.account.boundary_impulse +=
-                self.projectile_momentum() - vz_before - forces * dt as f64;
+                self.projectile_momentum() - p_before - forces * dt as f64;
         }
         if self.has(Pass::ContactDetect) {
             let hits = self.detect();

@@ -46,6 +46,10 @@ pub struct Particles {
     /// Per-radian-area mass m̃ = m/(2π r) and planar area m̃/ρ, from `sph_rates`.
     pub m_tilde: Vec<f32>,
     pub area: Vec<f32>,
+    /// Total stress over ρ² (rr, zz, rz) and the Gray–Monaghan artificial stress, from the
+    /// start of `sph_forces`.
+    pub stress_rho2: Vec<[f32; 3]>,
+    pub art_stress: Vec<[f32; 3]>,
     /// 1 where the particle is held at zero velocity (fixed boundary).
     pub fixed: Vec<u32>,
 }
@@ -100,6 +104,8 @@ impl Particles {
             mu_visc: zero.clone(),
             m_tilde: zero.clone(),
             area: zero,
+            stress_rho2: vec![[0.0; 3]; n],
+            art_stress: vec![[0.0; 3]; n],
             fixed,
         }
     }
@@ -109,6 +115,7 @@ impl Particles {
 #[derive(Clone, Copy, Debug)]
 pub struct SphParams {
     pub h: f32,
+    pub kernel: crate::kernel::Kernel,
     pub concrete: Hjc,
     pub alpha: f32,
     pub beta: f32,
@@ -122,14 +129,16 @@ pub struct SphParams {
 impl SphParams {
     pub fn new(spec: &TargetSpec) -> SphParams {
         let h = (spec.spacing * spec.smoothing_ratio) as f32;
+        let kernel = crate::kernel::Kernel::new(h);
         SphParams {
             h,
+            kernel,
             concrete: spec.concrete,
             alpha: spec.viscosity_alpha as f32,
             beta: spec.viscosity_beta as f32,
             art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },
             art_stress_n: 4.0,
-            w_spacing: crate::kernel::w(spec.spacing as f32, h),
+            w_spacing: kernel.w(spec.spacing as f32),
         }
     }
 }
@@ -228,7 +237,9 @@ impl FemParams {
             // LS-DYNA's defaults Q1 = 1.5, Q2 = 0.06 (physics.md §2).
             q_quad: 1.5,
             q_lin: 0.06,
-            return_iterations: 8,
+            // Bracketed Newton: 2–4 iterations once hardened, up to ~30 at first yield
+            // (materials::johnson_cook::radial_return).
+            return_iterations: 30,
         }
     }
 }

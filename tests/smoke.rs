@@ -155,3 +155,26 @@ fn cli_rejects_bad_input_without_panicking() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A non-finite value halts the step with the entity, its position, the step and the time named.
+#[test]
+fn instability_is_reported_with_what_where_and_when() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    for _ in 0..5 {
+        sim.step().unwrap();
+    }
+    sim.particles.az[7] = f32::NAN;
+    let err = sim.step().unwrap_err().to_string();
+    assert!(err.starts_with("unstable: particle 7 non-finite"), "{err}");
+    assert!(err.contains("step 5") && err.contains(" t "), "{err}");
+
+    let mut sim = Simulation::new(&scene).unwrap();
+    // Fold one element inside out: the stress pass must refuse it.
+    let el = sim.projectile.elements.nodes[3];
+    let (a, b) = (el[0] as usize, el[1] as usize);
+    let n = &mut sim.projectile.nodes;
+    (n.r[a], n.r[b], n.z[a], n.z[b]) = (n.r[b], n.r[a], n.z[b], n.z[a]);
+    let err = sim.step().unwrap_err().to_string();
+    assert!(err.contains("inverted"), "{err}");
+}

@@ -282,7 +282,7 @@ pub fn update_element(
     st: &mut ElementState,
 ) -> Option<ElementOutput> {
     let g = Geometry::new(el, &nodes.r, &nodes.z);
-    if !(g.two_area > 0.0) {
+    if g.two_area.is_nan() || g.two_area <= 0.0 {
         return None;
     }
     let idx = [el[0] as usize, el[1] as usize, el[2] as usize];

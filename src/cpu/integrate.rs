@@ -3,7 +3,6 @@
 
 use rayon::prelude::*;
 
-use crate::kernel;
 use crate::state::{Elements, Nodes, Particles, SphParams};
 
 /// Where a run went unstable.
@@ -172,5 +171,5 @@ pub fn element_dt(e: &Elements) -> f32 {
 
 /// Support radius of the kernel for a smoothing length.
 pub fn support(params: &SphParams) -> f32 {
-    kernel::SUPPORT * params.h
+    params.kernel.support()
 }

@@ -8,7 +8,6 @@ use rayon::prelude::*;
 
 use super::neighbours::{for_each_neighbour, CellGrid};
 use super::sph_rates::hoop_radius;
-use crate::kernel;
 use crate::state::{Particles, SphParams};
 
 /// η² of the viscosity's singularity guard, in units of h².
@@ -16,7 +15,8 @@ const ETA2: f32 = 0.01;
 
 pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let h = params.h;
-    let support = kernel::SUPPORT * h;
+    let kernel = &params.kernel;
+    let support = kernel.support();
     let Particles {
         r,
         z,
@@ -34,41 +34,54 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         de_visc,
         mu_visc,
         m_tilde,
+        stress_rho2,
+        art_stress,
         ..
     } = particles;
-    let (r, z, vr, vz, rho, p, s_rr, s_zz, s_rz, s_tt, sound, m_tilde) = (
-        &*r, &*z, &*vr, &*vz, &*rho, &*p, &*s_rr, &*s_zz, &*s_rz, &*s_tt, &*sound, &*m_tilde,
+    let art_on = params.art_stress_eps > 0.0;
+    stress_rho2
+        .par_iter_mut()
+        .zip(art_stress.par_iter_mut())
+        .enumerate()
+        .for_each(|(j, (sig, art))| {
+            let inv = 1.0 / (rho[j] * rho[j]);
+            *sig = [
+                (s_rr[j] - p[j]) * inv,
+                (s_zz[j] - p[j]) * inv,
+                s_rz[j] * inv,
+            ];
+            if art_on {
+                *art = artificial_stress(
+                    params.art_stress_eps,
+                    s_rr[j] - p[j],
+                    s_zz[j] - p[j],
+                    s_rz[j],
+                    rho[j],
+                );
+            }
+        });
+    let (r, z, vr, vz, rho, s_rr, s_rz, s_tt, sound, m_tilde, sigma, art) = (
+        &*r,
+        &*z,
+        &*vr,
+        &*vz,
+        &*rho,
+        &*s_rr,
+        &*s_rz,
+        &*s_tt,
+        &*sound,
+        &*m_tilde,
+        &*stress_rho2,
+        &*art_stress,
     );
-    // Total stress (rr, zz, rz) over ρ².
-    let sigma = |j: usize| {
-        let inv = 1.0 / (rho[j] * rho[j]);
-        [
-            (s_rr[j] - p[j]) * inv,
-            (s_zz[j] - p[j]) * inv,
-            s_rz[j] * inv,
-        ]
-    };
-    let art = |j: usize| {
-        artificial_stress(
-            params.art_stress_eps,
-            s_rr[j] - p[j],
-            s_zz[j] - p[j],
-            s_rz[j],
-            rho[j],
-        )
-    };
     ar.par_iter_mut()
         .zip(az.par_iter_mut())
         .zip(de_visc.par_iter_mut())
         .zip(mu_visc.par_iter_mut())
         .enumerate()
         .for_each(|(i, (((ar, az), de), mu_out))| {
-            let si = sigma(i);
-            let ri_art = if params.art_stress_eps > 0.0 {
-                art(i)
-            } else {
-                [0.0; 3]
-            };
+            let si = sigma[i];
+            let ri_art = art[i];
             let mut acc = [0.0f32; 2];
             let mut heat = 0.0f32;
             let mut mu_max = 0.0f32;
@@ -76,8 +89,8 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 let j = nb.j;
                 let sign = if nb.mirror { -1.0 } else { 1.0 };
                 let mj = m_tilde[j];
-                let gw = kernel::grad(nb.dr, nb.dz, nb.dist, h);
-                let sj = sigma(j);
+                let gw = kernel.grad(nb.dr, nb.dz, nb.dist);
+                let sj = sigma[j];
                 let mut t = [si[0] + sj[0], si[1] + sj[1], si[2] + sign * sj[2]];
 
                 let dvr = vr[i] - sign * vr[j];
@@ -93,9 +106,9 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                     heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]);
                     mu_max = mu_max.max(-mu);
                 }
-                if params.art_stress_eps > 0.0 {
-                    let rj = art(j);
-                    let f = (kernel::w(nb.dist, h) / params.w_spacing).powf(params.art_stress_n);
+                if art_on {
+                    let rj = art[j];
+                    let f = (kernel.w(nb.dist) / params.w_spacing).powf(params.art_stress_n);
                     t[0] += f * (ri_art[0] + rj[0]);
                     t[1] += f * (ri_art[1] + rj[1]);
                     t[2] += f * (ri_art[2] + sign * rj[2]);

@@ -9,7 +9,6 @@
 use rayon::prelude::*;
 
 use super::neighbours::{for_each_neighbour, CellGrid};
-use crate::kernel;
 use crate::state::{Particles, SphParams};
 
 const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
@@ -25,7 +24,8 @@ pub fn hoop_radius(r: f32, h: f32) -> f32 {
 
 pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let h = params.h;
-    let support = kernel::SUPPORT * h;
+    let kernel = &params.kernel;
+    let support = kernel.support();
     let Particles {
         r,
         z,
@@ -63,7 +63,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             for_each_neighbour(grid, r, z, i, support, |nb| {
                 let j = nb.j;
                 let area = area[j];
-                let gw = kernel::grad(nb.dr, nb.dz, nb.dist, h);
+                let gw = kernel.grad(nb.dr, nb.dz, nb.dist);
                 let vrj = if nb.mirror { -vr[j] } else { vr[j] };
                 let dvr = vrj - vr[i];
                 let dvz = vz[j] - vz[i];
