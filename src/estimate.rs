@@ -1,14 +1,13 @@
 //! Up-front estimates for `penetrate check`: counts, stable step, step count, memory.
 
 use crate::cpu::fem_stress::Geometry;
-use crate::kernel;
 use crate::mesh::{self, ProjectileMesh};
 use crate::scene::Scene;
 use crate::state::FemParams;
 
-/// Bytes of state per particle and per element/node (the f32 arrays of `state`), plus the
-/// neighbour grid; rounded up.
-const BYTES_PER_PARTICLE: usize = 28 * 4 + 12;
+/// Bytes of state per particle (28 scalar arrays, 2 three-vectors and the 2 index arrays of
+/// the cell grid), per element and per node (with its share of the node → element CSR).
+const BYTES_PER_PARTICLE: usize = (28 + 6 + 2) * 4;
 const BYTES_PER_ELEMENT: usize = 22 * 4;
 const BYTES_PER_NODE: usize = 12 * 4;
 
@@ -55,8 +54,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     let steps = (s.run.end_time / dt).ceil().min(u64::MAX as f64) as u64;
     let bytes = particles * BYTES_PER_PARTICLE
         + m.elements.len() * BYTES_PER_ELEMENT
-        + m.node_r.len() * BYTES_PER_NODE
-        + particles * 4 * (kernel::SUPPORT as usize);
+        + m.node_r.len() * BYTES_PER_NODE;
     Estimate {
         particles,
         slaves,

@@ -491,7 +491,7 @@ impl Simulation {
         let e = &self.projectile.elements;
         let name = format!("projectile_{frame:05}.vtu");
         let seq: Vec<f32> = (0..e.len())
-            .map(|k| cpu::fem_stress::von_mises(&[e.s_rr[k], e.s_zz[k], e.s_rz[k], e.s_tt[k]]))
+            .map(|k| cpu::deviator::von_mises(&[e.s_rr[k], e.s_zz[k], e.s_rz[k], e.s_tt[k]]))
             .collect();
         vtk::write_vtu(
             &dir.join(&name),

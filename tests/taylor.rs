@@ -16,14 +16,37 @@ fn taylor_4340_final_length_matches_the_measurement() {
     let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-4340-208.toml");
     let scene = scene::load(&case, &["projectile.element_size=0.000762".to_string()]).unwrap();
     let out = std::env::temp_dir().join(format!("penetrate-test-{}-taylor", std::process::id()));
-    let outcome = solver::run(&scene, &RunOptions { out: out.clone(), quiet: true, vtk: false }).unwrap();
+    let outcome = solver::run(
+        &scene,
+        &RunOptions {
+            out: out.clone(),
+            quiet: true,
+            vtk: false,
+        },
+    )
+    .unwrap();
     let s = &outcome.summary;
     assert!(outcome.ok, "{}", s.status);
     let length_mm = s.final_length_m * 1e3;
     let error = (length_mm - MEASURED_LENGTH_MM) / MEASURED_LENGTH_MM;
-    assert!(error.abs() < 0.02, "final length {length_mm:.3} mm vs {MEASURED_LENGTH_MM} mm measured");
-    assert!(s.max_radius_m * 1e3 > 3.81 * 1.2, "the foot mushroomed: radius {} mm", s.max_radius_m * 1e3);
-    assert!(s.energy_error.abs() < 0.01, "energy error {}", s.energy_error);
-    assert!(s.momentum_error < 1e-6, "momentum account {}", s.momentum_error);
+    assert!(
+        error.abs() < 0.02,
+        "final length {length_mm:.3} mm vs {MEASURED_LENGTH_MM} mm measured"
+    );
+    assert!(
+        s.max_radius_m * 1e3 > 3.81 * 1.2,
+        "the foot mushroomed: radius {} mm",
+        s.max_radius_m * 1e3
+    );
+    assert!(
+        s.energy_error.abs() < 0.01,
+        "energy error {}",
+        s.energy_error
+    );
+    assert!(
+        s.momentum_error < 1e-6,
+        "momentum account {}",
+        s.momentum_error
+    );
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -4,6 +4,7 @@
 
 use rayon::prelude::*;
 
+use super::deviator::{deviatoric_rate, equivalent_rate, jaumann_trial, von_mises};
 use super::sph_rates::hoop_radius;
 use crate::materials::hjc;
 use crate::state::{Particles, SphParams};
@@ -65,24 +66,11 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 *mmax = eos.mu_max;
                 *p = eos.p;
 
-                let vol = d_rr + d_zz + d_tt;
-                let dev = [d_rr - vol / 3.0, d_zz - vol / 3.0, d_rz, d_tt - vol / 3.0];
+                let (dev, _) = deviatoric_rate(d_rr, d_zz, d_rz, d_tt);
                 let g = c.shear_modulus;
-                let (a, b, cz) = (*srr, *szz, *srz);
-                let mut s = [
-                    a + dt * (2.0 * g * dev[0] + 2.0 * spin * cz),
-                    b + dt * (2.0 * g * dev[1] - 2.0 * spin * cz),
-                    cz + dt * (2.0 * g * dev[2] + spin * (b - a)),
-                    *stt + dt * (2.0 * g * dev[3]),
-                ];
-                let eq_rate = (2.0 / 3.0
-                    * (dev[0] * dev[0]
-                        + dev[1] * dev[1]
-                        + 2.0 * dev[2] * dev[2]
-                        + dev[3] * dev[3]))
-                    .sqrt();
-                let seq =
-                    (1.5 * (s[0] * s[0] + s[1] * s[1] + 2.0 * s[2] * s[2] + s[3] * s[3])).sqrt();
+                let mut s = jaumann_trial([*srr, *szz, *srz, *stt], dev, spin, g, dt);
+                let eq_rate = equivalent_rate(&dev);
+                let seq = von_mises(&s);
                 let sy = hjc::yield_stress(c, eos.p, *dmg, eq_rate);
                 let mut d_eps_p = 0.0;
                 if seq > sy {

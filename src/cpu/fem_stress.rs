@@ -3,6 +3,7 @@
 
 use rayon::prelude::*;
 
+use super::deviator::{deviatoric_rate, equivalent_rate, jaumann_trial, von_mises};
 use crate::materials::johnson_cook as jc;
 use crate::materials::steel_eos;
 use crate::state::{Elements, FemParams, Nodes};
@@ -298,27 +299,10 @@ pub fn update_element(
     // Stress at the start of the step, for the mid-step power.
     let old = total_stress(&st.s, st.p);
 
-    // Deviatoric strain rate, θθ included.
-    let vol = d.volumetric();
-    let dev = [
-        d.rr - vol / 3.0,
-        d.zz - vol / 3.0,
-        0.5 * d.gamma_rz,
-        d.tt - vol / 3.0,
-    ];
-    let eq_rate = (2.0 / 3.0
-        * (dev[0] * dev[0] + dev[1] * dev[1] + 2.0 * dev[2] * dev[2] + dev[3] * dev[3]))
-        .sqrt();
-
-    // Jaumann rotation of the deviator in the r–z plane, then the elastic trial.
-    let w = d.spin;
-    let [sr, sz, srz, stt] = st.s;
-    let mut s = [
-        sr + dt * (2.0 * g_mod * dev[0] + 2.0 * w * srz),
-        sz + dt * (2.0 * g_mod * dev[1] - 2.0 * w * srz),
-        srz + dt * (2.0 * g_mod * dev[2] + w * (sz - sr)),
-        stt + dt * (2.0 * g_mod * dev[3]),
-    ];
+    // Deviatoric strain rate (θθ included), then the Jaumann-rotated elastic trial.
+    let (dev, vol) = deviatoric_rate(d.rr, d.zz, 0.5 * d.gamma_rz, d.tt);
+    let eq_rate = equivalent_rate(&dev);
+    let mut s = jaumann_trial(st.s, dev, d.spin, g_mod, dt);
     let mut plastic_work = 0.0;
     if st.failed {
         s = [0.0; 4];
@@ -406,11 +390,6 @@ pub fn total_stress(s: &[f32; 4], p: f32) -> Stress {
         rz: s[2],
         tt: s[3] - p,
     }
-}
-
-/// Von Mises equivalent stress of a deviator (r, z, rz, θ).
-pub fn von_mises(s: &[f32; 4]) -> f32 {
-    (1.5 * (s[0] * s[0] + s[1] * s[1] + 2.0 * s[2] * s[2] + s[3] * s[3])).sqrt()
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 
 pub mod concrete;
 pub mod contact_detect;
+pub mod deviator;
 pub mod fem_forces;
 pub mod fem_stress;
 pub mod integrate;
