@@ -11,6 +11,77 @@ const BYTES_PER_PARTICLE: usize = (28 + 6 + 2) * 4;
 const BYTES_PER_ELEMENT: usize = 22 * 4;
 const BYTES_PER_NODE: usize = 12 * 4;
 
+/// Entity counts and state bytes of a scene, from its sizes alone (nothing is allocated).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    pub particles: usize,
+    pub nodes: usize,
+    pub elements: usize,
+    pub bytes: f64,
+}
+
+pub fn footprint(s: &Scene) -> Footprint {
+    let p = &s.projectile;
+    // Closed-form bound first (quads of the element size over the half-section); the exact count
+    // walks every cell and is only worth it when the bound is reasonable.
+    let cells = (p.length / p.element_size + 2.0) * (0.5 * p.diameter / p.element_size + 2.0);
+    let (nodes, elements) = if cells * 4.0 * BYTES_PER_ELEMENT as f64 > 0.5 * available_memory() {
+        ((2.0 * cells) as usize, (4.0 * cells) as usize)
+    } else {
+        mesh::projectile::estimate_counts(p)
+    };
+    let particles = s.target.as_ref().map_or(0, |t| {
+        let (cols, rows) = mesh::target::lattice_count(t.radius, t.thickness, t.spacing);
+        cols.saturating_mul(rows)
+    });
+    let bytes = particles as f64 * BYTES_PER_PARTICLE as f64
+        + elements as f64 * BYTES_PER_ELEMENT as f64
+        + nodes as f64 * BYTES_PER_NODE as f64;
+    Footprint {
+        particles,
+        nodes,
+        elements,
+        bytes,
+    }
+}
+
+/// Memory this machine can give a run (bytes): MemAvailable of /proc/meminfo, or 8 GiB where it
+/// cannot be read.
+pub fn available_memory() -> f64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+            let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(kib * 1024.0)
+        })
+        .unwrap_or(8.0 * 1024.0 * 1024.0 * 1024.0)
+}
+
+/// Refuse a scene whose state would not fit in half of the available memory, before anything is
+/// allocated, with the estimate and what to change.
+pub fn check_fits(s: &Scene) -> Result<Footprint, String> {
+    let f = footprint(s);
+    let available = available_memory();
+    // The meshers and outputs need working room beside the state; u32 indices cap the counts.
+    if f.bytes > 0.5 * available
+        || f.particles > u32::MAX as usize / 4
+        || f.nodes > u32::MAX as usize / 4
+    {
+        return Err(format!(
+            "the scene needs ≈ {:.1} GiB for {} particles, {} nodes and {} elements, more than this machine can give (≈ {:.1} GiB available): coarsen target.spacing or projectile.element_size, or shrink the target",
+            f.bytes / GIB,
+            f.particles,
+            f.nodes,
+            f.elements,
+            available / GIB
+        ));
+    }
+    Ok(f)
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
 #[derive(Clone, Copy, Debug)]
 pub struct Estimate {
     pub particles: usize,

@@ -63,10 +63,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check { case, set } => match scene::load(&case, &set) {
-            Ok(s) => {
-                print!("{}", check_report(&s));
-                ExitCode::SUCCESS
-            }
+            Ok(s) => match check_report(&s) {
+                Ok(report) => {
+                    print!("{report}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(2, &format!("{}: {e}", case.display())),
+            },
             Err(e) => fail(2, &e.to_string()),
         },
         Command::Run {
@@ -148,8 +151,9 @@ fn fail(code: u8, msg: &str) -> ExitCode {
     ExitCode::from(code)
 }
 
-fn check_report(s: &Scene) -> String {
+fn check_report(s: &Scene) -> Result<String, String> {
     let mut out = s.resolved_table();
+    estimate::check_fits(s)?;
     match mesh::projectile::build(&s.projectile) {
         Ok(m) => {
             let e = estimate::estimate(s, &m);
@@ -170,7 +174,7 @@ fn check_report(s: &Scene) -> String {
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));
         }
-        Err(e) => out += &format!("# projectile mesh: {e}\n"),
+        Err(e) => return Err(format!("projectile mesh: {e}")),
     }
-    out
+    Ok(out)
 }

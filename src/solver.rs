@@ -105,6 +105,7 @@ pub struct Simulation {
 impl Simulation {
     /// Build the meshes, the state and the pass list, and evaluate the first forces and Δt.
     pub fn new(scene: &Scene) -> Result<Simulation, RunError> {
+        crate::estimate::check_fits(scene).map_err(RunError::Setup)?;
         let spec = &scene.projectile;
         let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
         let projectile =
