@@ -136,6 +136,19 @@ fn cli_rejects_bad_input_without_panicking() {
             "run".to_string(),
             dir.join("missing.toml").display().to_string(),
         ],
+        // Valid, but far beyond any machine: refused up front with the estimate.
+        vec![
+            "run".to_string(),
+            case("smoke.toml").display().to_string(),
+            "--set".into(),
+            "target.spacing=1e-6".into(),
+        ],
+        vec![
+            "check".to_string(),
+            case("smoke.toml").display().to_string(),
+            "--set".into(),
+            "projectile.element_size=1e-7".into(),
+        ],
     ] {
         let out = Command::new(bin).args(&args).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
