@@ -1,11 +1,12 @@
-//! `neighbours`: bin particles into square cells of the kernel's support size with a counting
+//! `neighbours`: bin particles into square cells of half the kernel's support with a counting
 //! sort (count, prefix scan, scatter). Within a cell particles keep ascending index order, so
 //! every neighbour loop visits them in the same order on every run.
 
 /// Particles binned by cell.
 #[derive(Clone, Debug, Default)]
 pub struct CellGrid {
-    /// Cell edge (m): the kernel support radius.
+    /// Cell edge (m): half the kernel support radius, so a neighbour search visits 5×5 cells
+    /// (25 h² of candidates instead of the 36 h² of 3×3 cells of the full support).
     pub cell: f32,
     pub z0: f32,
     pub n_r: u32,
@@ -15,6 +16,9 @@ pub struct CellGrid {
     pub sorted: Vec<u32>,
     cell_of: Vec<u32>,
 }
+
+/// Cells searched on each side of a particle's own cell.
+const REACH: u32 = 2;
 
 /// Cells are capped so that a particle thrown far away cannot make the grid huge; such a
 /// particle is clamped into an edge cell (the distance test keeps the result right) and the
@@ -28,15 +32,15 @@ impl CellGrid {
         (ir, iz)
     }
 
-    /// Call `f(j)` for every particle j in the 3×3 cells around (r, z) (j may be far: the
+    /// Call `f(j)` for every particle j in the 5×5 cells around (r, z) (j may be far: the
     /// caller tests the distance).
     #[inline]
     pub fn for_each_candidate(&self, r: f32, z: f32, mut f: impl FnMut(usize)) {
         let (ir, iz) = self.index(r, z);
-        let r_lo = ir.saturating_sub(1);
-        let r_hi = (ir + 1).min(self.n_r - 1);
-        let z_lo = iz.saturating_sub(1);
-        let z_hi = (iz + 1).min(self.n_z - 1);
+        let r_lo = ir.saturating_sub(REACH);
+        let r_hi = (ir + REACH).min(self.n_r - 1);
+        let z_lo = iz.saturating_sub(REACH);
+        let z_hi = (iz + REACH).min(self.n_z - 1);
         for cz in z_lo..=z_hi {
             let row = cz * self.n_r;
             let start = self.cell_start[(row + r_lo) as usize] as usize;
@@ -49,7 +53,7 @@ impl CellGrid {
 }
 
 /// Rebuild the grid for the current positions. Cells are numbered row by row (z outer), so the
-/// three cells of a row are one contiguous run of `sorted`.
+/// cells of a row searched are one contiguous run of `sorted`.
 pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], support: f32) {
     let n = r.len();
     let mut r_max = 0.0f32;
@@ -64,10 +68,10 @@ pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], support: f32) {
         z_min = 0.0;
         z_max = 0.0;
     }
-    grid.cell = support;
+    grid.cell = support / REACH as f32;
     grid.z0 = z_min;
-    grid.n_r = ((r_max / support) as u32 + 1).min(MAX_CELLS_PER_AXIS);
-    grid.n_z = (((z_max - z_min) / support) as u32 + 1).min(MAX_CELLS_PER_AXIS);
+    grid.n_r = ((r_max / grid.cell) as u32 + 1).min(MAX_CELLS_PER_AXIS);
+    grid.n_z = (((z_max - z_min) / grid.cell) as u32 + 1).min(MAX_CELLS_PER_AXIS);
     let cells = (grid.n_r * grid.n_z) as usize;
     grid.cell_start.clear();
     grid.cell_start.resize(cells + 1, 0);
