@@ -191,3 +191,30 @@ fn instability_is_reported_with_what_where_and_when() {
     let err = sim.step().unwrap_err().to_string();
     assert!(err.contains("inverted"), "{err}");
 }
+
+/// The CPU path gives the same bits whatever the thread count: every parallel loop writes only
+/// its own slots and the only reductions (the time step) are minima.
+#[test]
+fn same_bits_on_one_and_two_threads() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut sim = Simulation::new(&scene).unwrap();
+            for _ in 0..300 {
+                sim.step().unwrap();
+            }
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
+            (
+                bits(&sim.particles.z),
+                bits(&sim.particles.vz),
+                bits(&sim.projectile.nodes.z),
+                bits(&sim.projectile.elements.s_zz),
+            )
+        })
+    };
+    assert!(run(1) == run(2), "results differ between 1 and 2 threads");
+}
