@@ -338,7 +338,7 @@ impl Projectile {
 /// their third node (the quad's centre) and nothing else of it.
 fn crossed_quads(elements: &[[u32; 3]]) -> bool {
     !elements.is_empty()
-        && elements.len().is_multiple_of(4)
+        && elements.len() % 4 == 0
         && elements.chunks(4).all(|q| {
             q.iter().all(|t| t[2] == q[0][2])
                 && q.iter().all(|t| t[0] != q[0][2] && t[1] != q[0][2])
