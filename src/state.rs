@@ -180,13 +180,8 @@ pub struct Elements {
     pub s_zz: Vec<f32>,
     pub s_rz: Vec<f32>,
     pub s_tt: Vec<f32>,
-    /// Pressure (Pa) without the bulk viscosity: the mean over the element's pressure group.
+    /// EOS pressure (Pa) without the bulk viscosity.
     pub p: Vec<f32>,
-    /// Scratch of `fem_stress` between its two passes: the element's own EOS pressure, its bulk
-    /// viscosity, and σ:ε̇ at the start of the step.
-    pub p_eos: Vec<f32>,
-    pub q: Vec<f32>,
-    pub old_power: Vec<f32>,
     /// Internal energy per unit reference volume (J/m³).
     pub energy: Vec<f32>,
     pub eps_p: Vec<f32>,
@@ -200,9 +195,6 @@ pub struct Elements {
     pub dt: Vec<f32>,
     /// Plastic work done in the last step (J), for the energy account.
     pub plastic_work: Vec<f32>,
-    /// Elements per pressure group: 4 when the mesh is made of crossed quads (four consecutive
-    /// triangles sharing their third node, the quad's centre), else 1.
-    pub pressure_group: usize,
 }
 
 impl Elements {
@@ -315,9 +307,6 @@ impl Projectile {
                 s_rz: zero.clone(),
                 s_tt: zero.clone(),
                 p: zero.clone(),
-                p_eos: zero.clone(),
-                q: zero.clone(),
-                old_power: zero.clone(),
                 energy: zero.clone(),
                 eps_p: zero.clone(),
                 temperature: vec![t_room; ne],
@@ -326,48 +315,9 @@ impl Projectile {
                 force: vec![[0.0; 6]; ne],
                 dt: vec![f32::MAX; ne],
                 plastic_work: zero,
-                pressure_group: if crossed_quads(&mesh.elements) { 4 } else { 1 },
             },
             masters: mesh.masters.clone(),
             total_mass: mesh.total_mass,
         }
-    }
-}
-
-/// True when the elements come as crossed quads: groups of four consecutive triangles that share
-/// their third node (the quad's centre) and nothing else of it.
-fn crossed_quads(elements: &[[u32; 3]]) -> bool {
-    !elements.is_empty()
-        && elements.len() % 4 == 0
-        && elements.chunks(4).all(|q| {
-            q.iter().all(|t| t[2] == q[0][2])
-                && q.iter().all(|t| t[0] != q[0][2] && t[1] != q[0][2])
-        })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The meshers' crossed quads are recognised as pressure groups of four; any other element
-    /// order falls back to one pressure per triangle.
-    #[test]
-    fn crossed_quads_make_pressure_groups() {
-        let mesh =
-            crate::mesh::projectile::cylinder(0.00762, 0.0254, 0.000762, 7830.0, 0.0).unwrap();
-        assert_eq!(
-            Projectile::from_mesh(&mesh, 200.0, 293.0)
-                .elements
-                .pressure_group,
-            4
-        );
-        let mut shuffled = mesh.clone();
-        shuffled.elements.swap(1, 5);
-        assert_eq!(
-            Projectile::from_mesh(&shuffled, 200.0, 293.0)
-                .elements
-                .pressure_group,
-            1
-        );
     }
 }

@@ -160,9 +160,6 @@ pub fn run(
         s_rz,
         s_tt,
         p,
-        p_eos,
-        q,
-        old_power,
         energy,
         eps_p,
         temperature,
@@ -171,10 +168,7 @@ pub fn run(
         force,
         dt: dt_out,
         plastic_work,
-        pressure_group,
     } = elements;
-    let group = *pressure_group;
-    // Pass A: per element, the deviatoric update, damage, own EOS pressure and viscosity.
     let inverted = conn
         .par_iter()
         .zip(volume0.par_iter())
@@ -182,117 +176,80 @@ pub fn run(
         .zip(s_zz.par_iter_mut())
         .zip(s_rz.par_iter_mut())
         .zip(s_tt.par_iter_mut())
-        .zip(p.par_iter())
-        .zip(p_eos.par_iter_mut())
-        .zip(q.par_iter_mut())
-        .zip(old_power.par_iter_mut())
-        .zip(energy.par_iter())
+        .zip(p.par_iter_mut())
+        .zip(energy.par_iter_mut())
         .zip(eps_p.par_iter_mut())
         .zip(temperature.par_iter_mut())
         .zip(damage.par_iter_mut())
         .zip(failed.par_iter_mut())
+        .zip(force.par_iter_mut())
         .zip(dt_out.par_iter_mut())
         .zip(plastic_work.par_iter_mut())
         .enumerate()
-        .map(|(e, item)| {
-            let (
+        .map(
+            |(
+                e,
                 (
                     (
                         (
                             (
                                 (
-                                    (
-                                        (
-                                            (
-                                                (((((((el, &v0), srr), szz), srz), stt), &pe), pq),
-                                                qe,
-                                            ),
-                                            op,
-                                        ),
-                                        &en,
-                                    ),
-                                    ep,
+                                    (((((((((el, &v0), srr), szz), srz), stt), pe), en), ep), temp),
+                                    dmg,
                                 ),
-                                temp,
+                                fail,
                             ),
-                            dmg,
+                            f,
                         ),
-                        fail,
+                        dte,
                     ),
-                    dte,
+                    wp,
                 ),
-                wp,
-            ) = item;
-            let mut st = ElementState {
-                s: [*srr, *szz, *srz, *stt],
-                p: pe,
-                energy: en,
-                eps_p: *ep,
-                temperature: *temp,
-                damage: *dmg,
-                failed: *fail != 0,
-            };
-            let out = update_element(el, v0, nodes, params, dt, &mut st);
-            [*srr, *szz, *srz, *stt] = st.s;
-            *ep = st.eps_p;
-            *temp = st.temperature;
-            *dmg = st.damage;
-            *fail = u32::from(st.failed);
-            match out {
-                Some(o) => {
-                    (*pq, *qe, *op, *dte, *wp) = (o.p_eos, o.q, o.old_power, o.dt, o.plastic_work);
-                    None
+            )| {
+                let mut st = ElementState {
+                    s: [*srr, *szz, *srz, *stt],
+                    p: *pe,
+                    energy: *en,
+                    eps_p: *ep,
+                    temperature: *temp,
+                    damage: *dmg,
+                    failed: *fail != 0,
+                };
+                let out = update_element(el, v0, nodes, params, dt, &mut st);
+                *srr = st.s[0];
+                *szz = st.s[1];
+                *srz = st.s[2];
+                *stt = st.s[3];
+                *pe = st.p;
+                *en = st.energy;
+                *ep = st.eps_p;
+                *temp = st.temperature;
+                *dmg = st.damage;
+                *fail = u32::from(st.failed);
+                match out {
+                    Some(o) => {
+                        *f = o.force;
+                        *dte = o.dt;
+                        *wp = o.plastic_work;
+                        None
+                    }
+                    None => {
+                        let g = Geometry::new(el, &nodes.r, &nodes.z);
+                        Some(Inverted {
+                            element: e,
+                            r: g.r_mean,
+                            z: (g.z[0] + g.z[1] + g.z[2]) / 3.0,
+                        })
+                    }
                 }
-                None => {
-                    let g = Geometry::new(el, &nodes.r, &nodes.z);
-                    Some(Inverted {
-                        element: e,
-                        r: g.r_mean,
-                        z: (g.z[0] + g.z[1] + g.z[2]) / 3.0,
-                    })
-                }
-            }
-        })
+            },
+        )
         .find_first(|x| x.is_some())
         .flatten();
-    if let Some(inv) = inverted {
-        return Err(inv);
+    match inverted {
+        Some(inv) => Err(inv),
+        None => Ok(()),
     }
-    // Pass B: per element, the group's pressure, the energy and the nodal forces.
-    let (conn, volume0, s_rr, s_zz, s_rz, s_tt, p_eos, q, old_power, failed) = (
-        &*conn,
-        &*volume0,
-        &*s_rr,
-        &*s_zz,
-        &*s_rz,
-        &*s_tt,
-        &*p_eos,
-        &*q,
-        &*old_power,
-        &*failed,
-    );
-    p.par_iter_mut()
-        .zip(energy.par_iter_mut())
-        .zip(force.par_iter_mut())
-        .enumerate()
-        .for_each(|(e, ((pe, en), f))| {
-            let (mut p_group, q_group) = group_pressure(e, group, conn, nodes, p_eos, q);
-            if failed[e] != 0 {
-                p_group = p_group.max(0.0);
-            }
-            let g = Geometry::new(&conn[e], &nodes.r, &nodes.z);
-            let idx = conn[e].map(|n| n as usize);
-            let d = StrainRate::new(&g, idx.map(|n| nodes.vr[n]), idx.map(|n| nodes.vz[n]));
-            let s = [s_rr[e], s_zz[e], s_rz[e], s_tt[e]];
-            // Internal energy per reference volume: trapezoidal in the stress, plus the viscous
-            // heating −q tr ε̇ (the viscosity acts only within this step).
-            let power = 0.5 * (old_power[e] + total_stress(&s, p_group).power(&d))
-                - q_group * d.volumetric();
-            *en += dt * (g.volume() / volume0[e]) * power;
-            *pe = p_group;
-            *f = nodal_forces(&g, &total_stress(&s, p_group + q_group));
-        });
-    Ok(())
 }
 
 /// The state one element carries from step to step.
@@ -308,14 +265,10 @@ pub struct ElementState {
     pub failed: bool,
 }
 
-/// What one element's constitutive update produces for the force pass.
+/// What one element's update produces.
 #[derive(Clone, Copy, Debug)]
 pub struct ElementOutput {
-    /// The element's own EOS pressure and bulk viscosity (Pa).
-    pub p_eos: f32,
-    pub q: f32,
-    /// σ:ε̇ with the stress at the start of the step (W/m³), for the energy.
-    pub old_power: f32,
+    pub force: [f32; 6],
     pub dt: f32,
     pub plastic_work: f32,
 }
@@ -396,11 +349,10 @@ pub fn update_element(
     }
 
     // EOS with the energy at mid-step (explicit predictor), eq. (14).
-    let old_power = old.power(&d);
-    let e_pred = st.energy + dt * rel_volume * old_power;
-    let mut p_eos = steel_eos::pressure(&m.eos, mu, e_pred);
+    let e_pred = st.energy + dt * rel_volume * old.power(&d);
+    let mut p = steel_eos::pressure(&m.eos, mu, e_pred);
     if st.failed {
-        p_eos = p_eos.max(0.0);
+        p = p.max(0.0);
     }
 
     // Bulk viscosity on compression only.
@@ -412,41 +364,22 @@ pub fn update_element(
     } else {
         0.0
     };
+
     st.s = s;
+    st.p = p;
+    // Internal energy per reference volume: trapezoidal in the stress, plus the viscous heating
+    // −q tr ε̇ (the viscosity acts only within this step).
+    let power = 0.5 * (old.power(&d) + total_stress(&s, p).power(&d)) - q * vol;
+    st.energy += dt * rel_volume * power;
+    let new = total_stress(&s, p + q);
 
     let q_hat = m.q_quad * length * (-vol).max(0.0) + m.q_lin * c;
     let dt_el = length / (q_hat + (q_hat * q_hat + c * c).sqrt());
     Some(ElementOutput {
-        p_eos,
-        q,
-        old_power,
+        force: nodal_forces(&g, &new),
         dt: dt_el,
         plastic_work,
     })
-}
-
-/// Pressure and viscosity shared by a pressure group (a crossed quad's four triangles, or one
-/// triangle): the volume-weighted mean of the members' own values. One pressure per quad is the
-/// mean-dilatation remedy physics.md §2 names against the volumetric locking of constant-strain
-/// triangles in plastic flow; it leaves the power identity intact because each triangle's
-/// forces still come from its own strain rate.
-fn group_pressure(
-    e: usize,
-    group: usize,
-    conn: &[[u32; 3]],
-    nodes: &Nodes,
-    p_eos: &[f32],
-    q: &[f32],
-) -> (f32, f32) {
-    let first = e - e % group;
-    let mut sum = [0.0f32; 3];
-    for k in first..first + group {
-        let v = Geometry::new(&conn[k], &nodes.r, &nodes.z).volume();
-        sum[0] += v;
-        sum[1] += v * p_eos[k];
-        sum[2] += v * q[k];
-    }
-    (sum[1] / sum[0], sum[2] / sum[0])
 }
 
 /// Total stress σ = S − p I from the deviator (r, z, rz, θ) and the pressure.
