@@ -13,9 +13,9 @@ pub const SUPPORT: f32 = 2.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kernel {
     pub h: f32,
-    inv_h: f32,
-    norm: f32,
-    dnorm: f32,
+    pub inv_h: f32,
+    pub norm: f32,
+    pub dnorm: f32,
 }
 
 impl Kernel {

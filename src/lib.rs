@@ -8,6 +8,7 @@
 pub mod contact;
 pub mod cpu;
 pub mod estimate;
+pub mod gpu;
 pub mod kernel;
 pub mod materials;
 pub mod mesh;

@@ -1,0 +1,72 @@
+// Uniform parameter blocks; Rust twins in src/gpu/params.rs (same names, same order).
+
+struct SphUniform {
+    kernel: KernelParams,
+    n: u32,
+    alpha: f32,
+    beta: f32,
+    art_stress_eps: f32,
+    art_stress_n: f32,
+    w_spacing: f32,
+    mu_plock: f32,
+    density: f32,
+    shear_modulus: f32,
+    a: f32,
+    b: f32,
+    n_exp: f32,
+    c: f32,
+    s_max: f32,
+    fc: f32,
+    t: f32,
+    eps_rate_ref: f32,
+    ef_min: f32,
+    d1: f32,
+    d2: f32,
+    p_crush: f32,
+    mu_crush: f32,
+    k1: f32,
+    k2: f32,
+    k3: f32,
+    p_lock: f32,
+    mu_lock: f32,
+}
+
+struct FemUniform {
+    n_elements: u32,
+    n_nodes: u32,
+    density: f32,
+    shear_modulus: f32,
+    specific_heat: f32,
+    taylor_quinney: f32,
+    jc_a: f32,
+    jc_b: f32,
+    jc_n: f32,
+    jc_c: f32,
+    jc_m: f32,
+    eps_rate_ref: f32,
+    t_room: f32,
+    t_melt: f32,
+    eos_k1: f32,
+    eos_k2: f32,
+    eos_k3: f32,
+    eos_gamma: f32,
+    has_damage: u32,
+    d1: f32,
+    d2: f32,
+    d3: f32,
+    d4: f32,
+    d5: f32,
+    spall_stress: f32,
+    eps_f_min: f32,
+    q_quad: f32,
+    q_lin: f32,
+    return_iterations: u32,
+}
+
+// The step's clock on the GPU: `dt` is the step being taken (written by the time-step
+// reduction, read by every pass that advances state), so a whole step needs no upload.
+struct Clock {
+    dt: f32,
+    // Next step's candidate as ordered bits (atomicMin target); see integrate.wgsl.
+    dt_next_bits: u32,
+}

@@ -1,0 +1,509 @@
+//! The GPU path: the step's passes as WGSL compute shaders (`shaders/`) through wgpu.
+//!
+//! `Gpu` owns the device; `Kernel` is one compute pipeline whose bindings are described by a
+//! list of `Slot`s (binding i = slot i); `state` holds one storage buffer per field of the CPU's
+//! structure-of-arrays state, so every shader has a CPU twin with the same data.
+//!
+//! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
+//! is missing (an adapter, a limit, a feature) so the command line can say so.
+
+pub mod params;
+pub mod state;
+
+use std::sync::{Arc, Mutex};
+
+use bytemuck::Pod;
+
+/// Threads per workgroup in every shader (`@workgroup_size(64)`).
+pub const WORKGROUP: u32 = 64;
+
+/// Storage buffers the widest pass binds at once (sph_forces); the adapter must allow this many
+/// per shader stage.
+pub const STORAGE_BUFFERS_NEEDED: u32 = 28;
+
+/// An adapter as `penetrate adapters` lists it.
+#[derive(Clone, Debug)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    /// Why this adapter cannot run the solver, if it cannot.
+    pub unusable: Option<String>,
+}
+
+fn instance() -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+/// Why an adapter cannot run the solver (a limit below what the passes bind), or None.
+fn unusable(adapter: &wgpu::Adapter) -> Option<String> {
+    let limits = adapter.limits();
+    if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
+        return Some(format!(
+            "max_storage_buffers_per_shader_stage is {}, the solver binds up to {}",
+            limits.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS_NEEDED
+        ));
+    }
+    if !adapter
+        .get_downlevel_capabilities()
+        .flags
+        .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+    {
+        return Some("no compute shaders".into());
+    }
+    None
+}
+
+/// Every adapter wgpu sees, with the reason it cannot be used where it cannot.
+pub fn adapters() -> Vec<AdapterSummary> {
+    let instance = instance();
+    let list = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    list.iter()
+        .map(|a| {
+            let info = a.get_info();
+            AdapterSummary {
+                name: info.name.clone(),
+                backend: format!("{:?}", info.backend),
+                device_type: format!("{:?}", info.device_type),
+                driver: format!("{} {}", info.driver, info.driver_info)
+                    .trim()
+                    .to_string(),
+                unusable: unusable(a),
+            }
+        })
+        .collect()
+}
+
+/// Preference of an adapter when none is named: a real GPU first, then lavapipe on Vulkan; the
+/// GL backend last (fewer storage buffers, no subgroups: gpu-notes.md).
+fn rank(info: &wgpu::AdapterInfo) -> u32 {
+    let kind = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    };
+    let backend = u32::from(info.backend == wgpu::Backend::Gl);
+    backend * 10 + kind
+}
+
+/// True when the adapter is a real GPU (not a software rasteriser): what `--backend auto` wants.
+pub fn is_hardware(info: &wgpu::AdapterInfo) -> bool {
+    matches!(
+        info.device_type,
+        wgpu::DeviceType::DiscreteGpu | wgpu::DeviceType::IntegratedGpu
+    )
+}
+
+/// The device and queue, with wgpu errors captured instead of panicking.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub limits: wgpu::Limits,
+    /// Timestamp queries inside compute passes are available (for `bench`).
+    pub timestamps: bool,
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+/// How a shader binding is used (binding i of a kernel is slot i).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Slot {
+    Uniform,
+    Read,
+    ReadWrite,
+}
+
+/// One compute pipeline and its bind-group layout.
+pub struct Kernel {
+    pub name: String,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    slots: Vec<Slot>,
+}
+
+impl Gpu {
+    /// Open the adapter whose name contains `name` (case-insensitive), or the best one.
+    pub fn new(name: Option<&str>) -> Result<Gpu, String> {
+        let instance = instance();
+        let list = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        if list.is_empty() {
+            return Err(
+                "no GPU adapter found (on Debian, `apt-get install mesa-vulkan-drivers` \
+                 gives the software adapter lavapipe)"
+                    .into(),
+            );
+        }
+        let mut candidates: Vec<&wgpu::Adapter> = match name {
+            Some(n) => {
+                let n = n.to_lowercase();
+                list.iter()
+                    .filter(|a| a.get_info().name.to_lowercase().contains(&n))
+                    .collect()
+            }
+            None => list.iter().collect(),
+        };
+        if candidates.is_empty() {
+            let names: Vec<String> = list.iter().map(|a| a.get_info().name).collect();
+            return Err(format!(
+                "no adapter named like {:?}; adapters: {}",
+                name.unwrap_or(""),
+                names.join(", ")
+            ));
+        }
+        candidates.sort_by_key(|a| rank(&a.get_info()));
+        let usable = candidates.iter().find(|a| unusable(a).is_none());
+        let Some(adapter) = usable else {
+            let a = candidates[0];
+            return Err(format!(
+                "adapter {} ({:?}) cannot run the solver: {}",
+                a.get_info().name,
+                a.get_info().backend,
+                unusable(a).unwrap_or_default()
+            ));
+        };
+        let features = adapter.features()
+            & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("penetrate"),
+            required_features: features,
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| {
+            format!(
+                "could not open the adapter {}: {e}",
+                adapter.get_info().name
+            )
+        })?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        Ok(Gpu {
+            device,
+            queue,
+            info: adapter.get_info(),
+            limits,
+            timestamps: features.contains(
+                wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES,
+            ),
+            errors,
+        })
+    }
+
+    /// "name (backend)" for summaries.
+    pub fn adapter_name(&self) -> String {
+        format!("{} ({:?})", self.info.name, self.info.backend)
+    }
+
+    /// The first wgpu error raised since the last call, if any.
+    pub fn take_error(&self) -> Option<String> {
+        let mut v = self.errors.lock().ok()?;
+        let first = v.first().cloned();
+        v.clear();
+        first
+    }
+
+    /// Fail if the scene's largest array (bytes) does not fit one binding of this adapter.
+    pub fn check_binding_size(&self, what: &str, bytes: u64) -> Result<(), String> {
+        let max = self
+            .limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size);
+        if bytes > max {
+            return Err(format!(
+                "scene too big for adapter {}: {what} needs {bytes} bytes in one buffer, \
+                 max_storage_buffer_binding_size is {max}",
+                self.info.name
+            ));
+        }
+        Ok(())
+    }
+
+    /// A storage buffer holding `data` (at least 16 bytes: bindings may not be empty).
+    pub fn buffer<T: Pod>(&self, label: &str, data: &[T]) -> wgpu::Buffer {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let size = (bytes.len() as u64).max(16).next_multiple_of(4);
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        if !bytes.is_empty() {
+            self.queue.write_buffer(&buffer, 0, bytes);
+        }
+        buffer
+    }
+
+    /// A zeroed storage buffer of `count` elements of T.
+    pub fn zeros<T: Pod>(&self, label: &str, count: usize) -> wgpu::Buffer {
+        let size = ((count * std::mem::size_of::<T>()) as u64)
+            .max(16)
+            .next_multiple_of(4);
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// A uniform buffer holding `value`, laid out by encase.
+    pub fn uniform<T: encase::ShaderType + encase::internal::WriteInto>(
+        &self,
+        label: &str,
+        value: &T,
+    ) -> wgpu::Buffer {
+        let mut bytes = encase::UniformBuffer::new(Vec::<u8>::new());
+        bytes
+            .write(value)
+            .expect("encase writes into a growable Vec");
+        let bytes = bytes.into_inner();
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: (bytes.len() as u64).max(16).next_multiple_of(16),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.queue.write_buffer(&buffer, 0, &bytes);
+        buffer
+    }
+
+    /// Overwrite a uniform buffer made by `uniform` with a new value of the same type.
+    pub fn write_uniform<T: encase::ShaderType + encase::internal::WriteInto>(
+        &self,
+        buffer: &wgpu::Buffer,
+        value: &T,
+    ) {
+        let mut bytes = encase::UniformBuffer::new(Vec::<u8>::new());
+        bytes
+            .write(value)
+            .expect("encase writes into a growable Vec");
+        self.queue.write_buffer(buffer, 0, &bytes.into_inner());
+    }
+
+    /// Overwrite the start of a storage buffer.
+    pub fn write<T: Pod>(&self, buffer: &wgpu::Buffer, data: &[T]) {
+        if !data.is_empty() {
+            self.queue
+                .write_buffer(buffer, 0, bytemuck::cast_slice(data));
+        }
+    }
+
+    /// Read the first `count` elements of a buffer back (blocking). Used for outputs and
+    /// tests, not inside the step.
+    pub fn read<T: Pod>(&self, buffer: &wgpu::Buffer, count: usize) -> Result<Vec<T>, String> {
+        let bytes = (count * std::mem::size_of::<T>()) as u64;
+        if bytes == 0 {
+            return Ok(Vec::new());
+        }
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("read-back"),
+            size: bytes.next_multiple_of(4),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, bytes.next_multiple_of(4));
+        self.queue.submit([encoder.finish()]);
+        let out = self.map_read(&staging, bytes as usize)?;
+        Ok(bytemuck::pod_collect_to_vec(&out))
+    }
+
+    /// Map a MAP_READ buffer, copy out its first `bytes` bytes and unmap it.
+    pub fn map_read(&self, staging: &wgpu::Buffer, bytes: usize) -> Result<Vec<u8>, String> {
+        let slice = staging.slice(..(bytes as u64).next_multiple_of(4));
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| format!("GPU wait failed: {e}"))?;
+        match rx.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(format!("GPU read-back failed: {e}")),
+            Err(_) => return Err("GPU read-back was dropped".into()),
+        }
+        let out = {
+            let view = slice
+                .get_mapped_range()
+                .map_err(|e| format!("GPU read-back failed: {e}"))?;
+            view[..bytes].to_vec()
+        };
+        staging.unmap();
+        if let Some(e) = self.take_error() {
+            return Err(format!("GPU error: {e}"));
+        }
+        Ok(out)
+    }
+
+    /// Build a compute pipeline from WGSL source; binding i is used as `slots[i]`.
+    pub fn kernel(
+        &self,
+        name: &str,
+        source: &str,
+        entry: &str,
+        slots: &[Slot],
+    ) -> Result<Kernel, String> {
+        let module = self
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = slots
+            .iter()
+            .enumerate()
+            .map(|(i, slot)| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: match slot {
+                        Slot::Uniform => wgpu::BufferBindingType::Uniform,
+                        Slot::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                        Slot::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = self
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(name),
+                entries: &entries,
+            });
+        let pipeline_layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(name),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let pipeline = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        if let Some(e) = self.take_error() {
+            return Err(format!("shader {name} ({entry}) does not build: {e}"));
+        }
+        Ok(Kernel {
+            name: name.to_string(),
+            pipeline,
+            layout,
+            slots: slots.to_vec(),
+        })
+    }
+}
+
+impl Kernel {
+    /// A bind group with `buffers[i]` at binding i.
+    pub fn bind(&self, gpu: &Gpu, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        assert_eq!(
+            buffers.len(),
+            self.slots.len(),
+            "kernel {} binds {} buffers",
+            self.name,
+            self.slots.len()
+        );
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&self.name),
+            layout: &self.layout,
+            entries: &entries,
+        })
+    }
+
+    /// Record one dispatch covering `items` threads (one per item).
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass, bind: &wgpu::BindGroup, items: u32) {
+        if items == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.dispatch_workgroups(items.div_ceil(WORKGROUP), 1, 1);
+    }
+
+    /// Record a dispatch of exactly `groups` workgroups.
+    pub fn dispatch_groups(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        bind: &wgpu::BindGroup,
+        groups: u32,
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.dispatch_workgroups(groups, 1, 1);
+    }
+}
+
+/// WGSL source of a pass: the shared helpers, then the pass's own files.
+pub fn source(parts: &[&str]) -> String {
+    let mut s = String::from(include_str!("../../shaders/common.wgsl"));
+    for p in parts {
+        s.push('\n');
+        s.push_str(p);
+    }
+    s
+}
+
+/// Run `record` in one compute pass, submit, and wait (tests and one-off uses).
+pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Result<(), String> {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        record(&mut pass);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| format!("GPU wait failed: {e}"))?;
+    match gpu.take_error() {
+        Some(e) => Err(format!("GPU error: {e}")),
+        None => Ok(()),
+    }
+}
+
+/// For tests: the adapter, or a failure that says how to get one (GPU tests never pass
+/// silently without an adapter).
+pub fn test_gpu() -> Gpu {
+    match Gpu::new(std::env::var("PENETRATE_ADAPTER").ok().as_deref()) {
+        Ok(g) => g,
+        Err(e) => panic!(
+            "GPU test needs an adapter: {e}. Install Mesa's software Vulkan adapter \
+             (Debian: apt-get install mesa-vulkan-drivers) or run `bash scripts/test`, which does."
+        ),
+    }
+}

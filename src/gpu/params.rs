@@ -1,0 +1,164 @@
+//! Uniform parameter blocks shared by the passes, laid out by encase; their WGSL twins are in
+//! `shaders/params.wgsl` (same field names, same order).
+
+use encase::ShaderType;
+
+use crate::state::{FemParams, SphParams};
+
+/// `KernelParams` of `shaders/common.wgsl`.
+#[derive(Clone, Copy, Debug, ShaderType)]
+pub struct KernelUniform {
+    pub h: f32,
+    pub inv_h: f32,
+    pub norm: f32,
+    pub dnorm: f32,
+}
+
+/// `SphUniform`: the target's constants (SphParams and its HJC set) and the particle count.
+#[derive(Clone, Copy, Debug, ShaderType)]
+pub struct SphUniform {
+    pub kernel: KernelUniform,
+    pub n: u32,
+    pub alpha: f32,
+    pub beta: f32,
+    pub art_stress_eps: f32,
+    pub art_stress_n: f32,
+    pub w_spacing: f32,
+    /// Crushing ends here (materials::hjc::lock_strain), precomputed once.
+    pub mu_plock: f32,
+    pub density: f32,
+    pub shear_modulus: f32,
+    pub a: f32,
+    pub b: f32,
+    pub n_exp: f32,
+    pub c: f32,
+    pub s_max: f32,
+    pub fc: f32,
+    pub t: f32,
+    pub eps_rate_ref: f32,
+    pub ef_min: f32,
+    pub d1: f32,
+    pub d2: f32,
+    pub p_crush: f32,
+    pub mu_crush: f32,
+    pub k1: f32,
+    pub k2: f32,
+    pub k3: f32,
+    pub p_lock: f32,
+    pub mu_lock: f32,
+}
+
+impl SphUniform {
+    pub fn new(p: &SphParams, n: usize) -> SphUniform {
+        let k = p.kernel;
+        let c = p.concrete;
+        SphUniform {
+            kernel: KernelUniform {
+                h: k.h,
+                inv_h: k.inv_h,
+                norm: k.norm,
+                dnorm: k.dnorm,
+            },
+            n: n as u32,
+            alpha: p.alpha,
+            beta: p.beta,
+            art_stress_eps: p.art_stress_eps,
+            art_stress_n: p.art_stress_n,
+            w_spacing: p.w_spacing,
+            mu_plock: crate::materials::hjc::lock_strain(&c),
+            density: c.density,
+            shear_modulus: c.shear_modulus,
+            a: c.a,
+            b: c.b,
+            n_exp: c.n,
+            c: c.c,
+            s_max: c.s_max,
+            fc: c.fc,
+            t: c.t,
+            eps_rate_ref: c.eps_rate_ref,
+            ef_min: c.ef_min,
+            d1: c.d1,
+            d2: c.d2,
+            p_crush: c.p_crush,
+            mu_crush: c.mu_crush,
+            k1: c.k1,
+            k2: c.k2,
+            k3: c.k3,
+            p_lock: c.p_lock,
+            mu_lock: c.mu_lock,
+        }
+    }
+}
+
+/// `FemUniform`: the projectile material (FemParams) and the element and node counts.
+#[derive(Clone, Copy, Debug, ShaderType)]
+pub struct FemUniform {
+    pub n_elements: u32,
+    pub n_nodes: u32,
+    pub density: f32,
+    pub shear_modulus: f32,
+    pub specific_heat: f32,
+    pub taylor_quinney: f32,
+    pub jc_a: f32,
+    pub jc_b: f32,
+    pub jc_n: f32,
+    pub jc_c: f32,
+    pub jc_m: f32,
+    pub eps_rate_ref: f32,
+    pub t_room: f32,
+    pub t_melt: f32,
+    pub eos_k1: f32,
+    pub eos_k2: f32,
+    pub eos_k3: f32,
+    pub eos_gamma: f32,
+    /// 1 when the Johnson–Cook damage model is on (then d1..eps_f_min are meaningful).
+    pub has_damage: u32,
+    pub d1: f32,
+    pub d2: f32,
+    pub d3: f32,
+    pub d4: f32,
+    pub d5: f32,
+    pub spall_stress: f32,
+    pub eps_f_min: f32,
+    pub q_quad: f32,
+    pub q_lin: f32,
+    pub return_iterations: u32,
+}
+
+impl FemUniform {
+    pub fn new(p: &FemParams, n_elements: usize, n_nodes: usize) -> FemUniform {
+        let s = p.strength;
+        let d = p.damage;
+        FemUniform {
+            n_elements: n_elements as u32,
+            n_nodes: n_nodes as u32,
+            density: p.density,
+            shear_modulus: p.shear_modulus,
+            specific_heat: p.specific_heat,
+            taylor_quinney: p.taylor_quinney,
+            jc_a: s.a,
+            jc_b: s.b,
+            jc_n: s.n,
+            jc_c: s.c,
+            jc_m: s.m,
+            eps_rate_ref: s.eps_rate_ref,
+            t_room: s.t_room,
+            t_melt: s.t_melt,
+            eos_k1: p.eos.k1,
+            eos_k2: p.eos.k2,
+            eos_k3: p.eos.k3,
+            eos_gamma: p.eos.gamma,
+            has_damage: u32::from(d.is_some()),
+            d1: d.map_or(0.0, |d| d.d1),
+            d2: d.map_or(0.0, |d| d.d2),
+            d3: d.map_or(0.0, |d| d.d3),
+            d4: d.map_or(0.0, |d| d.d4),
+            d5: d.map_or(0.0, |d| d.d5),
+            spall_stress: d.map_or(0.0, |d| d.spall_stress),
+            eps_f_min: d.map_or(0.0, |d| d.eps_f_min),
+            q_quad: p.q_quad,
+            q_lin: p.q_lin,
+            return_iterations: p.return_iterations,
+        }
+    }
+}
