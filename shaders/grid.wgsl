@@ -1,0 +1,46 @@
+// The cell grid of the neighbour search (src/cpu/neighbours.rs, shaders/neighbours.wgsl):
+// square cells of half the kernel support, numbered row by row (z outer, r inner); a neighbour
+// loop visits the 5x5 cells around a particle's cell, row by row, and within a row the
+// particles sorted[cell_start[row + r_lo] .. cell_start[row + r_hi + 1]] (ascending index
+// inside each cell), exactly as CellGrid::for_each_candidate does on the CPU.
+
+const GRID_REACH: u32 = 2u;
+
+struct GridInfo {
+    // Bounds of the particle cloud as order-preserving u32 keys (float_key), built by atomics.
+    r_max_key: u32,
+    z_min_key: u32,
+    z_max_key: u32,
+    n_r: u32,
+    n_z: u32,
+    cell: f32,
+    z0: f32,
+    // Cells in use (n_r * n_z) and the capacity cell_start was allocated for (minus one).
+    cells: u32,
+    capacity: u32,
+    // 1 when the cloud needed more cells than the capacity and the grid was coarsened.
+    overflow: u32,
+}
+
+// Order-preserving map of an f32 to a u32 (for atomicMin/atomicMax on floats).
+fn float_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    if ((b & 0x80000000u) != 0u) {
+        return ~b;
+    }
+    return b | 0x80000000u;
+}
+
+fn key_float(k: u32) -> f32 {
+    if ((k & 0x80000000u) != 0u) {
+        return bitcast<f32>(k & 0x7fffffffu);
+    }
+    return bitcast<f32>(~k);
+}
+
+// Cell (ir, iz) of a position, clamped into the grid as on the CPU.
+fn grid_cell(g: GridInfo, r: f32, z: f32) -> vec2<u32> {
+    let ir = min(u32(max(r / g.cell, 0.0)), g.n_r - 1u);
+    let iz = min(u32(max((z - g.z0) / g.cell, 0.0)), g.n_z - 1u);
+    return vec2<u32>(ir, iz);
+}
