@@ -7,6 +7,8 @@
 //! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
 //! is missing (an adapter, a limit, a feature) so the command line can say so.
 
+pub mod contact;
+pub mod integrate;
 pub mod params;
 pub mod state;
 

@@ -1,0 +1,369 @@
+//! `integrate` and the time-step reduction on the GPU (shaders/integrate.wgsl,
+//! shaders/timestep.wgsl); CPU twins in `cpu::integrate` and `Simulation::stable_dt`.
+
+use encase::ShaderType;
+
+use super::state::{GpuElements, GpuNodes, GpuParticles};
+use super::{source, Gpu, Kernel, Slot};
+
+/// `StepUniform` of shaders/step.wgsl.
+#[derive(Clone, Copy, Debug, Default, ShaderType)]
+pub struct StepUniform {
+    pub n_particles: u32,
+    pub n_nodes: u32,
+    pub n_elements: u32,
+    pub n_slaves: u32,
+    pub n_masters: u32,
+    pub has_wall: u32,
+    pub wall_z: f32,
+    pub escape: f32,
+    pub r_min: f32,
+    pub h: f32,
+    pub alpha: f32,
+    pub beta: f32,
+    pub cfl: f32,
+    pub has_fem: u32,
+    pub hit_capacity: u32,
+}
+
+/// Status words (shaders/step.wgsl): the smallest index of an entity that went wrong.
+pub const STATUS_INVERTED_ELEMENT: usize = 0;
+pub const STATUS_PARTICLE_NONFINITE: usize = 1;
+pub const STATUS_PARTICLE_ESCAPED: usize = 2;
+pub const STATUS_NODE_NONFINITE: usize = 3;
+pub const STATUS_NODE_ESCAPED: usize = 4;
+pub const STATUS_WORDS: usize = 8;
+/// A status word with nothing to report.
+pub const STATUS_CLEAR: u32 = u32::MAX;
+
+/// The WGSL of the step's own passes: the shared blocks, then `parts`.
+pub(crate) fn step_source(parts: &[&str]) -> String {
+    let mut all = vec![
+        include_str!("../../shaders/params.wgsl"),
+        include_str!("../../shaders/step.wgsl"),
+    ];
+    all.extend_from_slice(parts);
+    source(&all)
+}
+
+/// The integration of particles and nodes, and the Δt reduction.
+pub struct IntegratePass {
+    particles: Option<(Kernel, wgpu::BindGroup)>,
+    nodes: (Kernel, wgpu::BindGroup),
+    particle_dt: Option<(Kernel, wgpu::BindGroup)>,
+    element_dt: Option<(Kernel, wgpu::BindGroup)>,
+    finish: (Kernel, wgpu::BindGroup),
+    n_particles: u32,
+    n_nodes: u32,
+    n_elements: u32,
+}
+
+/// Buffers the integration accumulates into (summed by the host at output time).
+pub struct Accumulators {
+    /// Boundary z-impulse per particle (fixed particles) and per node (wall), N s.
+    pub particle_impulse: wgpu::Buffer,
+    pub node_impulse: wgpu::Buffer,
+    /// Kinetic energy the wall took, per node (J).
+    pub node_lost: wgpu::Buffer,
+    /// Stand-in for the particles' `lost` binding (never written).
+    pub particle_lost: wgpu::Buffer,
+}
+
+impl Accumulators {
+    pub fn new(gpu: &Gpu, n_particles: usize, n_nodes: usize) -> Accumulators {
+        Accumulators {
+            particle_impulse: gpu.zeros::<f32>("particle impulse", n_particles),
+            node_impulse: gpu.zeros::<f32>("node impulse", n_nodes),
+            node_lost: gpu.zeros::<f32>("node wall loss", n_nodes),
+            particle_lost: gpu.zeros::<f32>("unused", 1),
+        }
+    }
+}
+
+const INTEGRATE_SLOTS: [Slot; 13] = [
+    Slot::Uniform,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+];
+
+const TIMESTEP_SLOTS: [Slot; 6] = [
+    Slot::Uniform,
+    Slot::ReadWrite,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+];
+
+impl IntegratePass {
+    /// `particles` is None for a scene without a target, `elements` None for a rigid
+    /// projectile (its stable step does not take part).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        gpu: &Gpu,
+        step: &wgpu::Buffer,
+        clock: &wgpu::Buffer,
+        status: &wgpu::Buffer,
+        particles: Option<&GpuParticles>,
+        nodes: &GpuNodes,
+        elements: Option<&GpuElements>,
+        acc: &Accumulators,
+    ) -> Result<IntegratePass, String> {
+        let n_particles = particles.map_or(0, |p| p.len as u32);
+        let src = step_source(&[include_str!("../../shaders/integrate.wgsl")]);
+        let integrate =
+            |entry: &str| gpu.kernel(&format!("integrate.{entry}"), &src, entry, &INTEGRATE_SLOTS);
+        let tsrc = step_source(&[include_str!("../../shaders/timestep.wgsl")]);
+        let timestep =
+            |entry: &str| gpu.kernel(&format!("timestep.{entry}"), &tsrc, entry, &TIMESTEP_SLOTS);
+
+        let particles_pass = match particles {
+            Some(p) => {
+                let k = integrate("particles")?;
+                let b = k.bind(
+                    gpu,
+                    &[
+                        step,
+                        clock,
+                        status,
+                        &p.r,
+                        &p.z,
+                        &p.vr,
+                        &p.vz,
+                        &p.ar,
+                        &p.az,
+                        &p.mass,
+                        &p.fixed,
+                        &acc.particle_impulse,
+                        &acc.particle_lost,
+                    ],
+                );
+                let kd = timestep("particle_dt")?;
+                let bd = kd.bind(gpu, &[step, clock, &p.sound, &p.vr, &p.vz, &p.mu_visc]);
+                Some(((k, b), (kd, bd)))
+            }
+            None => None,
+        };
+        let k = integrate("nodes")?;
+        let n = nodes;
+        let nodes_bind = k.bind(
+            gpu,
+            &[
+                step,
+                clock,
+                status,
+                &n.r,
+                &n.z,
+                &n.vr,
+                &n.vz,
+                &n.fr,
+                &n.fz,
+                &n.mass,
+                &n.on_axis,
+                &acc.node_impulse,
+                &acc.node_lost,
+            ],
+        );
+        let element_dt = match elements {
+            Some(e) => {
+                let k = timestep("element_dt")?;
+                let b = k.bind(gpu, &[step, clock, &e.dt, &e.dt, &e.dt, &e.dt]);
+                Some((k, b))
+            }
+            None => None,
+        };
+        let kf = timestep("finish")?;
+        // `finish` reads only the clock; any f32 buffer fills the unused slots.
+        let bf = kf.bind(gpu, &[step, clock, &n.r, &n.r, &n.r, &n.r]);
+        let (particles, particle_dt) = match particles_pass {
+            Some((a, b)) => (Some(a), Some(b)),
+            None => (None, None),
+        };
+        Ok(IntegratePass {
+            particles,
+            nodes: (k, nodes_bind),
+            particle_dt,
+            element_dt,
+            finish: (kf, bf),
+            n_particles,
+            n_nodes: nodes.len as u32,
+            n_elements: elements.map_or(0, |e| e.len as u32),
+        })
+    }
+
+    /// Velocities and positions of particles and nodes over the clock's Δt.
+    pub fn record_integrate(&self, pass: &mut wgpu::ComputePass) {
+        if let Some((k, b)) = &self.particles {
+            k.dispatch(pass, b, self.n_particles);
+        }
+        k_dispatch(&self.nodes, pass, self.n_nodes);
+    }
+
+    /// The next Δt into the clock, from the particles' and elements' current state.
+    pub fn record_timestep(&self, pass: &mut wgpu::ComputePass) {
+        if let Some(kb) = &self.particle_dt {
+            k_dispatch(kb, pass, self.n_particles);
+        }
+        if let Some(kb) = &self.element_dt {
+            k_dispatch(kb, pass, self.n_elements);
+        }
+        self.finish.0.dispatch_groups(pass, &self.finish.1, 1);
+    }
+}
+
+fn k_dispatch(kb: &(Kernel, wgpu::BindGroup), pass: &mut wgpu::ComputePass, n: u32) {
+    kb.0.dispatch(pass, &kb.1, n);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::{run_once, test_gpu};
+    use crate::solver::Simulation;
+
+    fn smoke(steps: usize) -> Simulation {
+        let scene =
+            crate::scene::load(std::path::Path::new("cases/smoke.toml"), &[]).expect("smoke case");
+        let mut sim = Simulation::new(&scene).expect("smoke builds");
+        for _ in 0..steps {
+            sim.step().expect("smoke steps");
+        }
+        sim
+    }
+
+    fn uniform(sim: &Simulation) -> StepUniform {
+        let sph = sim.sph.expect("smoke has a target");
+        StepUniform {
+            n_particles: sim.particles.len() as u32,
+            n_nodes: sim.projectile.nodes.len() as u32,
+            n_elements: sim.projectile.elements.len() as u32,
+            escape: 1.0e3,
+            r_min: 0.1 * sph.h,
+            h: sph.h,
+            alpha: sph.alpha,
+            beta: sph.beta,
+            cfl: sim.scene.run.cfl as f32,
+            has_fem: 1,
+            ..Default::default()
+        }
+    }
+
+    /// Largest |a − b| relative to the largest |b| of the field.
+    fn field_error(a: &[f32], b: &[f32]) -> f32 {
+        let scale = b
+            .iter()
+            .fold(0.0f32, |m, x| m.max(x.abs()))
+            .max(f32::MIN_POSITIVE);
+        a.iter()
+            .zip(b)
+            .fold(0.0f32, |m, (x, y)| m.max((x - y).abs()))
+            / scale
+    }
+
+    /// One integration and one Δt reduction agree with the CPU twins on the smoke state.
+    #[test]
+    fn integrate_and_timestep_match_cpu() {
+        let gpu = test_gpu();
+        let sim = smoke(60);
+        let dt = sim.dt;
+        let u = uniform(&sim);
+        let step = gpu.uniform("step", &u);
+        let clock = gpu.buffer("clock", &[dt.to_bits(), f32::MAX.to_bits()]);
+        let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
+        let gp = GpuParticles::upload(&gpu, &sim.particles);
+        let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
+        let ge = GpuElements::upload(&gpu, &sim.projectile.elements);
+        let acc = Accumulators::new(&gpu, gp.len, gn.len);
+        let pass = IntegratePass::new(
+            &gpu,
+            &step,
+            &clock,
+            &status,
+            Some(&gp),
+            &gn,
+            Some(&ge),
+            &acc,
+        )
+        .unwrap();
+        run_once(&gpu, |p| {
+            pass.record_integrate(p);
+            pass.record_timestep(p);
+        })
+        .unwrap();
+
+        let mut cpu = sim.particles.clone();
+        let sph = sim.sph.unwrap();
+        crate::cpu::integrate::particles(&mut cpu, &sph, dt, 1.0e3).unwrap();
+        let mut nodes = sim.projectile.nodes.clone();
+        crate::cpu::integrate::nodes(&mut nodes, dt, None, 1.0e3).unwrap();
+        let mut back = sim.particles.clone();
+        gp.download(&gpu, &mut back).unwrap();
+        let mut back_nodes = nodes.clone();
+        gn.download(&gpu, &mut back_nodes).unwrap();
+        // x + dt·(v + dt·a): one rounding per operation on each side; a fused multiply-add on
+        // the GPU moves the result by at most an ulp of the field, ~1e-7 relative.
+        for (name, a, b) in [
+            ("r", &back.r, &cpu.r),
+            ("z", &back.z, &cpu.z),
+            ("vr", &back.vr, &cpu.vr),
+            ("vz", &back.vz, &cpu.vz),
+            ("node r", &back_nodes.r, &nodes.r),
+            ("node z", &back_nodes.z, &nodes.z),
+            ("node vr", &back_nodes.vr, &nodes.vr),
+            ("node vz", &back_nodes.vz, &nodes.vz),
+        ] {
+            let e = field_error(a, b);
+            assert!(e < 1.0e-6, "{name}: relative error {e:e}");
+        }
+
+        // The next Δt, from the integrated particle state and the elements' dt.
+        let expect = crate::cpu::integrate::particle_dt(&back, &sph)
+            .min(crate::cpu::integrate::element_dt(&sim.projectile.elements))
+            * u.cfl;
+        let words: Vec<u32> = gpu.read(&clock, 2).unwrap();
+        let got = f32::from_bits(words[0]);
+        // h/(c + |v| + …): a handful of roundings, and the driver may use a faster division.
+        assert!(
+            ((got - expect) / expect).abs() < 1.0e-5,
+            "dt {got:e} against {expect:e}"
+        );
+        assert_eq!(words[1], f32::MAX.to_bits(), "the running minimum resets");
+        let st: Vec<u32> = gpu.read(&status, STATUS_WORDS).unwrap();
+        assert!(
+            st.iter().all(|&w| w == STATUS_CLEAR),
+            "no instability: {st:?}"
+        );
+    }
+
+    /// A non-finite velocity is flagged with the particle's index.
+    #[test]
+    fn integrate_flags_a_non_finite_particle() {
+        let gpu = test_gpu();
+        let mut sim = smoke(0);
+        sim.particles.az[17] = f32::NAN;
+        sim.particles.fixed[17] = 0;
+        let u = uniform(&sim);
+        let step = gpu.uniform("step", &u);
+        let clock = gpu.buffer("clock", &[sim.dt.to_bits(), f32::MAX.to_bits()]);
+        let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
+        let gp = GpuParticles::upload(&gpu, &sim.particles);
+        let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
+        let acc = Accumulators::new(&gpu, gp.len, gn.len);
+        let pass =
+            IntegratePass::new(&gpu, &step, &clock, &status, Some(&gp), &gn, None, &acc).unwrap();
+        run_once(&gpu, |p| pass.record_integrate(p)).unwrap();
+        let st: Vec<u32> = gpu.read(&status, STATUS_WORDS).unwrap();
+        assert_eq!(st[STATUS_PARTICLE_NONFINITE], 17);
+        assert_eq!(st[STATUS_NODE_NONFINITE], STATUS_CLEAR);
+    }
+}
