@@ -7,6 +7,7 @@
 //! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
 //! is missing (an adapter, a limit, a feature) so the command line can say so.
 
+pub mod concrete;
 pub mod params;
 pub mod state;
 
