@@ -9,6 +9,7 @@
 
 pub mod concrete;
 pub mod params;
+pub mod sph_forces;
 pub mod state;
 
 use std::sync::{Arc, Mutex};
