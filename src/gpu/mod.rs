@@ -7,9 +7,11 @@
 //! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
 //! is missing (an adapter, a limit, a feature) so the command line can say so.
 
+pub mod concrete;
 pub mod contact;
 pub mod integrate;
 pub mod params;
+pub mod sph_forces;
 pub mod state;
 
 use std::sync::{Arc, Mutex};

@@ -1,0 +1,116 @@
+// `concrete` (CPU twin: src/cpu/concrete.rs): per particle, the HJC update (physics.md §3.1) in
+// the OpenRadioss LAW126 order: density from continuity, EOS with crushing, trial deviator
+// (Jaumann), strength with the new pressure and the old damage, radial scaling, damage from
+// Δε_p + Δμ_p; then the energy. Needs params.wgsl and hjc.wgsl.
+
+@group(0) @binding(0) var<uniform> u: SphUniform;
+@group(0) @binding(1) var<storage, read> clock: Clock;
+@group(0) @binding(2) var<storage, read> r: array<f32>;
+@group(0) @binding(3) var<storage, read> vr: array<f32>;
+@group(0) @binding(4) var<storage, read> l_rr: array<f32>;
+@group(0) @binding(5) var<storage, read> l_rz: array<f32>;
+@group(0) @binding(6) var<storage, read> l_zr: array<f32>;
+@group(0) @binding(7) var<storage, read> l_zz: array<f32>;
+@group(0) @binding(8) var<storage, read> drho: array<f32>;
+@group(0) @binding(9) var<storage, read> de_visc: array<f32>;
+@group(0) @binding(10) var<storage, read_write> rho: array<f32>;
+@group(0) @binding(11) var<storage, read_write> energy: array<f32>;
+@group(0) @binding(12) var<storage, read_write> p: array<f32>;
+@group(0) @binding(13) var<storage, read_write> s_rr: array<f32>;
+@group(0) @binding(14) var<storage, read_write> s_zz: array<f32>;
+@group(0) @binding(15) var<storage, read_write> s_rz: array<f32>;
+@group(0) @binding(16) var<storage, read_write> s_tt: array<f32>;
+@group(0) @binding(17) var<storage, read_write> damage: array<f32>;
+@group(0) @binding(18) var<storage, read_write> mu_max: array<f32>;
+@group(0) @binding(19) var<storage, read_write> eps_p: array<f32>;
+@group(0) @binding(20) var<storage, read_write> sound: array<f32>;
+
+// sph_rates::hoop_radius: r floored at 0.1 h so the hoop terms stay finite on the axis.
+fn hoop_radius(ri: f32, h: f32) -> f32 {
+    return max(ri, 0.1 * h);
+}
+
+// The deviatoric update of src/cpu/deviator.rs; components (rr, zz, rz, θθ), rz tensorial.
+
+// Deviator of the rate of deformation.
+fn deviatoric_rate(d: vec4<f32>) -> vec4<f32> {
+    let vol = d.x + d.y + d.w;
+    return vec4<f32>(d.x - vol / 3.0, d.y - vol / 3.0, d.z, d.w - vol / 3.0);
+}
+
+// Elastic trial deviator after dt with the Jaumann terms of the r–z spin ω.
+fn jaumann_trial(s: vec4<f32>, dev: vec4<f32>, spin: f32, g: f32, dt: f32) -> vec4<f32> {
+    let g2 = 2.0 * g;
+    return vec4<f32>(
+        s.x + dt * (g2 * dev.x + 2.0 * spin * s.z),
+        s.y + dt * (g2 * dev.y - 2.0 * spin * s.z),
+        s.z + dt * (g2 * dev.z + spin * (s.y - s.x)),
+        s.w + dt * (g2 * dev.w),
+    );
+}
+
+// Equivalent strain rate sqrt(2/3 dev:dev).
+fn equivalent_rate(dev: vec4<f32>) -> f32 {
+    return sqrt(2.0 / 3.0
+        * (dev.x * dev.x + dev.y * dev.y + 2.0 * dev.z * dev.z + dev.w * dev.w));
+}
+
+// Von Mises stress sqrt(3/2 S:S) of a deviator.
+fn von_mises(s: vec4<f32>) -> f32 {
+    return sqrt(1.5 * (s.x * s.x + s.y * s.y + 2.0 * s.z * s.z + s.w * s.w));
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= u.n) { return; }
+    let dt = clock.dt;
+
+    let d_tt = vr[i] / hoop_radius(r[i], u.kernel.h);
+    let d_rr = l_rr[i];
+    let d_zz = l_zz[i];
+    let d_rz = 0.5 * (l_rz[i] + l_zr[i]);
+    let spin = 0.5 * (l_rz[i] - l_zr[i]);
+    let p_old = p[i];
+    let s_old = vec4<f32>(s_rr[i], s_zz[i], s_rz[i], s_tt[i]);
+    let old_power = (s_old.x - p_old) * d_rr
+        + (s_old.y - p_old) * d_zz
+        + 2.0 * s_old.z * d_rz
+        + (s_old.w - p_old) * d_tt;
+
+    let rho_new = rho[i] + dt * drho[i];
+    let mu = rho_new / u.density - 1.0;
+    let dmg = damage[i];
+    let eos = hjc_pressure(u, mu, mu_max[i], dmg);
+
+    let dev = deviatoric_rate(vec4<f32>(d_rr, d_zz, d_rz, d_tt));
+    let g = u.shear_modulus;
+    var s = jaumann_trial(s_old, dev, spin, g, dt);
+    let eq_rate = equivalent_rate(dev);
+    let seq = von_mises(s);
+    let sy = hjc_yield_stress(u, eos.p, dmg, eq_rate);
+    var d_eps_p = 0.0;
+    if (seq > sy) {
+        let scale = select(0.0, sy / seq, seq > 0.0);
+        s = s * scale;
+        d_eps_p = (seq - sy) / (3.0 * g);
+    }
+
+    rho[i] = rho_new;
+    mu_max[i] = eos.mu_max;
+    p[i] = eos.p;
+    eps_p[i] = eps_p[i] + d_eps_p;
+    damage[i] = min(dmg + hjc_damage_increment(u, eos.p, d_eps_p, eos.d_mu_p), 1.0);
+    s_rr[i] = s.x;
+    s_zz[i] = s.y;
+    s_rz[i] = s.z;
+    s_tt[i] = s.w;
+    sound[i] = hjc_sound_speed(u, eos.tangent);
+
+    // ė = σ:ε̇/ρ (θθ included), trapezoidal in the stress, plus viscous heating.
+    let new_power = (s.x - eos.p) * d_rr
+        + (s.y - eos.p) * d_zz
+        + 2.0 * s.z * d_rz
+        + (s.w - eos.p) * d_tt;
+    energy[i] = energy[i] + dt * (0.5 * (old_power + new_power) / rho_new + de_visc[i]);
+}

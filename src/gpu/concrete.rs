@@ -1,0 +1,403 @@
+//! `concrete` on the GPU (shaders/concrete.wgsl, with the HJC law in shaders/hjc.wgsl); CPU
+//! twin `cpu::concrete::run` with `materials::hjc`.
+
+use super::state::GpuParticles;
+use super::{source, Gpu, Kernel, Slot};
+
+/// The WGSL of the concrete pass: the uniform blocks, the HJC law, then `pass`.
+fn hjc_source(pass: &str) -> String {
+    source(&[
+        include_str!("../../shaders/params.wgsl"),
+        include_str!("../../shaders/hjc.wgsl"),
+        pass,
+    ])
+}
+
+/// Bindings of shaders/concrete.wgsl: SphUniform, the clock, 8 read fields, 11 written.
+const SLOTS: [Slot; 21] = [
+    Slot::Uniform,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+];
+
+/// The HJC update of every particle over the clock's Δt: reads r, vr, the velocity gradient,
+/// drho and de_visc; advances rho, energy, p, the deviator, damage, mu_max, eps_p and sound.
+pub struct ConcretePass {
+    kernel: Kernel,
+    bind: wgpu::BindGroup,
+    n: u32,
+}
+
+impl ConcretePass {
+    pub fn new(
+        gpu: &Gpu,
+        particles: &GpuParticles,
+        sph_uniform: &wgpu::Buffer,
+        clock: &wgpu::Buffer,
+    ) -> Result<ConcretePass, String> {
+        let src = hjc_source(include_str!("../../shaders/concrete.wgsl"));
+        let kernel = gpu.kernel("concrete", &src, "main", &SLOTS)?;
+        let p = particles;
+        let bind = kernel.bind(
+            gpu,
+            &[
+                sph_uniform,
+                clock,
+                &p.r,
+                &p.vr,
+                &p.l_rr,
+                &p.l_rz,
+                &p.l_zr,
+                &p.l_zz,
+                &p.drho,
+                &p.de_visc,
+                &p.rho,
+                &p.energy,
+                &p.p,
+                &p.s_rr,
+                &p.s_zz,
+                &p.s_rz,
+                &p.s_tt,
+                &p.damage,
+                &p.mu_max,
+                &p.eps_p,
+                &p.sound,
+            ],
+        );
+        Ok(ConcretePass {
+            kernel,
+            bind,
+            n: p.len as u32,
+        })
+    }
+
+    pub fn record(&self, pass: &mut wgpu::ComputePass) {
+        self.kernel.dispatch(pass, &self.bind, self.n);
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::gpu::params::SphUniform;
+    use crate::gpu::{run_once, test_gpu};
+    use crate::materials::hjc::{self, Hjc};
+    use crate::solver::Simulation;
+
+    /// Steps of the smoke scene before a comparison: the nose reaches the first particles
+    /// after ~150 steps, so at 400 (t ≈ 19 µs, 5 mm deep) particles are crushed, yielding and
+    /// damaged, and the viscosity acts.
+    pub(crate) const SMOKE_STEPS: usize = 400;
+
+    /// The smoke scene with `overrides`, after `steps` steps.
+    pub(crate) fn smoke(steps: usize, overrides: &[String]) -> Simulation {
+        let scene = crate::scene::load(std::path::Path::new("cases/smoke.toml"), overrides)
+            .expect("smoke case");
+        let mut sim = Simulation::new(&scene).expect("smoke builds");
+        for _ in 0..steps {
+            sim.step().expect("smoke steps");
+        }
+        sim
+    }
+
+    /// Largest |a − b| relative to the largest |b| of the field; infinite where a value is
+    /// NaN on one side only (f32::max would skip it).
+    pub(crate) fn field_error(a: &[f32], b: &[f32]) -> f32 {
+        assert_eq!(a.len(), b.len());
+        let scale = b
+            .iter()
+            .fold(0.0f32, |m, x| m.max(x.abs()))
+            .max(f32::MIN_POSITIVE);
+        a.iter()
+            .zip(b)
+            .fold(0.0f32, |m, (x, y)| m.max(difference(*x, *y)))
+            / scale
+    }
+
+    /// |x − y|, 0 for equal values (infinities included), infinite when only one is NaN.
+    fn difference(x: f32, y: f32) -> f32 {
+        if x == y || (x.is_nan() && y.is_nan()) {
+            0.0
+        } else {
+            let d = (x - y).abs();
+            if d.is_nan() {
+                f32::INFINITY
+            } else {
+                d
+            }
+        }
+    }
+
+    /// Largest error of the increments `a − start` against `b − start`, relative to the largest
+    /// |b − start|, less two ulps of the stored value: each side rounds `start + increment`
+    /// once, so a one-ulp difference of the sum is no error of the increment.
+    pub(crate) fn increment_error(a: &[f32], b: &[f32], start: &[f32]) -> f32 {
+        let scale = b
+            .iter()
+            .zip(start)
+            .fold(0.0f32, |m, (y, s)| m.max((y - s).abs()))
+            .max(f32::MIN_POSITIVE);
+        a.iter()
+            .zip(b)
+            .fold(0.0f32, |m, (x, y)| {
+                m.max(difference(*x, *y) - 2.0 * f32::EPSILON * y.abs())
+            })
+            .max(0.0)
+            / scale
+    }
+
+    /// Evaluates the law of hjc.wgsl on a list of cases, 8 inputs and 8 outputs each:
+    /// (μ, μ_max, D, ε̇, p, Δε_p, Δμ_p, tangent) → (EOS p, μ_max, Δμ_p, tangent;
+    /// σ_y(p, D, ε̇), ΔD(p, Δε_p, Δμ_p), c(tangent), σ_y(EOS p, D, ε̇)).
+    const LAW_KERNEL: &str = r#"
+@group(0) @binding(0) var<uniform> u: SphUniform;
+@group(0) @binding(1) var<storage, read> cases: array<f32>;
+@group(0) @binding(2) var<storage, read_write> out: array<f32>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= u.n) { return; }
+    let a = 8u * i;
+    let eos = hjc_pressure(u, cases[a], cases[a + 1u], cases[a + 2u]);
+    out[a] = eos.p;
+    out[a + 1u] = eos.mu_max;
+    out[a + 2u] = eos.d_mu_p;
+    out[a + 3u] = eos.tangent;
+    out[a + 4u] = hjc_yield_stress(u, cases[a + 4u], cases[a + 2u], cases[a + 3u]);
+    out[a + 5u] = hjc_damage_increment(u, cases[a + 4u], cases[a + 5u], cases[a + 6u]);
+    out[a + 6u] = hjc_sound_speed(u, cases[a + 7u]);
+    out[a + 7u] = hjc_yield_stress(u, eos.p, cases[a + 2u], cases[a + 3u]);
+}
+"#;
+
+    /// The same outputs from materials::hjc.
+    fn law_cpu(h: &Hjc, c: &[f32; 8]) -> [f32; 8] {
+        let [mu, mu_max, d, rate, p, d_eps_p, d_mu_p, tangent] = *c;
+        let eos = hjc::pressure(h, mu, mu_max, d);
+        [
+            eos.p,
+            eos.mu_max,
+            eos.d_mu_p,
+            eos.tangent,
+            hjc::yield_stress(h, p, d, rate),
+            hjc::damage_increment(h, p, d_eps_p, d_mu_p),
+            hjc::sound_speed(h, tangent),
+            hjc::yield_stress(h, eos.p, d, rate),
+        ]
+    }
+
+    /// Hand-picked states: (μ, μ_max, D) covering the elastic line, tension above and at the
+    /// cut-off (intact, half and fully damaged), crushing on loading, unloading and reloading
+    /// below μ_max, unloading into the cut-off, the locked dense curve on loading and
+    /// unloading, both sides of μ_plock, and extreme strains; paired with (ε̇, p, Δε_p, Δμ_p,
+    /// tangent) covering both yield branches, the S_max cap, no rate effect, the tensile floor
+    /// and the EF_min floor of the failure strain.
+    fn law_cases(mu_plock: f32) -> Vec<[f32; 8]> {
+        let eos = [
+            (5.0e-4, 0.0, 0.0),
+            (-2.0e-4, 0.0, 0.0),
+            (-1.0e-3, 0.0, 0.0),
+            (-1.0e-3, 0.0, 0.5),
+            (-1.0e-3, 0.0, 1.0),
+            (0.05, 0.03, 0.0),
+            (0.02, 0.0, 0.3),
+            (0.045, 0.05, 0.0),
+            (0.049, 0.05, 0.7),
+            (0.03, 0.05, 0.0),
+            (0.03, 0.05, 0.5),
+            (0.12, 0.0, 0.0),
+            (0.12, 0.2, 0.0),
+            (0.15, 0.12, 0.9),
+            (mu_plock * 0.999, 0.0, 0.0),
+            (mu_plock * 1.001, 0.0, 0.0),
+            (-0.9, 0.05, 0.3),
+            (3.0, 0.2, 0.3),
+            (0.0, 0.0, 0.0),
+        ];
+        let strength = [
+            (100.0, 96.0e6, 0.01, 0.002, 16.0e9),
+            (100.0, 0.0, 0.0, 0.0, 85.0e9),
+            (100.0, -2.0e6, 0.01, 0.0, 30.0e9),
+            (100.0, -5.0e6, 0.01, 0.002, 16.0e9),
+            (100.0, 2.4e9, 0.0, 0.001, 70.0e9),
+            (0.1, 96.0e6, 0.001, 0.0, 40.0e9),
+            (3.0e4, -3.0e6, 0.01, 0.002, 16.0e9),
+        ];
+        let mut cases = Vec::new();
+        for (k, &(mu, mu_max, d)) in eos.iter().enumerate() {
+            for (m, &(rate, p, dep, dmp, tangent)) in strength.iter().enumerate() {
+                // Every strength case against a few EOS states, not the full product.
+                if (k + m) % 3 == 0 || m == 0 {
+                    cases.push([mu, mu_max, d, rate, p, dep, dmp, tangent]);
+                }
+            }
+        }
+        cases
+    }
+
+    /// The WGSL HJC functions agree with materials::hjc on hand-picked states, for the
+    /// reference set and the f_c rule's 35 MPa set (the smoke target's).
+    #[test]
+    fn hjc_law_matches_cpu() {
+        let gpu = test_gpu();
+        let sim = smoke(0, &[]);
+        let base = sim.sph.expect("smoke has a target");
+        for h in [Hjc::reference_48mpa(), base.concrete] {
+            let mut params = base;
+            params.concrete = h;
+            let mu_plock = hjc::lock_strain(&h);
+            let cases = law_cases(mu_plock);
+            let flat: Vec<f32> = cases.iter().flatten().copied().collect();
+            let uniform = gpu.uniform("sph", &SphUniform::new(&params, cases.len()));
+            let input = gpu.buffer("cases", &flat);
+            let output = gpu.zeros::<f32>("out", flat.len());
+            let src = hjc_source(LAW_KERNEL);
+            let k = gpu
+                .kernel(
+                    "hjc law",
+                    &src,
+                    "main",
+                    &[Slot::Uniform, Slot::Read, Slot::ReadWrite],
+                )
+                .unwrap();
+            let bind = k.bind(&gpu, &[&uniform, &input, &output]);
+            run_once(&gpu, |p| k.dispatch(p, &bind, cases.len() as u32)).unwrap();
+            let got: Vec<f32> = gpu.read(&output, flat.len()).unwrap();
+
+            // Scales for the absolute part of the tolerance: pressures are differences of terms
+            // of size K·μ (the unloading line p_env − K_unload(m − μ), the cubic), so their
+            // round-off is relative to K₁·max(|μ|, μ_max), not to p; the rest are relative.
+            // 2e-6: a few f32 ulps (fused multiply-adds, log/pow of the driver within ~2 ulp).
+            let names = [
+                "p",
+                "mu_max",
+                "d_mu_p",
+                "tangent",
+                "yield",
+                "d_damage",
+                "sound",
+                "yield(eos p)",
+            ];
+            let mut worst = [0.0f32; 8];
+            for (c, g) in cases.iter().zip(got.chunks(8)) {
+                let want = law_cpu(&h, c);
+                let p_scale = h.k1 * c[0].abs().max(c[1]).max(1.0e-4);
+                for q in 0..8 {
+                    let scale = match q {
+                        0 | 7 => p_scale,
+                        2 => c[0].abs().max(c[1]).max(mu_plock),
+                        _ => want[q].abs(),
+                    };
+                    let err = (g[q] - want[q]).abs();
+                    worst[q] = worst[q].max(err / scale.max(f32::MIN_POSITIVE));
+                    assert!(
+                        err <= 2.0e-6 * scale,
+                        "{} for case {c:?}: GPU {} CPU {} (error {err:e}, scale {scale:e})",
+                        names[q],
+                        g[q],
+                        want[q]
+                    );
+                }
+            }
+            eprintln!(
+                "hjc law, f_c {:e}: worst relative errors {names:?} {worst:?}",
+                h.fc
+            );
+        }
+    }
+
+    /// Particles on each branch of the law in a CPU-updated state, to show the smoke state
+    /// exercises them: (plastic, crushed, locked, at the tension cut-off, damaged).
+    fn branches(
+        before: &crate::state::Particles,
+        after: &crate::state::Particles,
+        h: &Hjc,
+    ) -> [usize; 5] {
+        let mut n = [0; 5];
+        let mu_plock = hjc::lock_strain(h);
+        for i in 0..after.len() {
+            n[0] += usize::from(after.eps_p[i] > before.eps_p[i]);
+            n[1] += usize::from(after.mu_max[i] > h.mu_crush);
+            n[2] += usize::from(after.mu_max[i] >= mu_plock);
+            n[3] += usize::from(
+                after.p[i] == -h.t * (1.0 - after.damage[i].min(1.0)) && after.p[i] < 0.0,
+            );
+            n[4] += usize::from(after.damage[i] > 0.0);
+        }
+        n
+    }
+
+    /// One concrete pass agrees with cpu::concrete::run field by field on the smoke state.
+    #[test]
+    fn concrete_matches_cpu() {
+        let gpu = test_gpu();
+        let sim = smoke(SMOKE_STEPS, &[]);
+        let sph = sim.sph.expect("smoke has a target");
+        let dt = sim.dt;
+        let mut cpu = sim.particles.clone();
+        crate::cpu::concrete::run(&mut cpu, &sph, dt);
+        let n = branches(&sim.particles, &cpu, &sph.concrete);
+        eprintln!("concrete smoke branches (plastic, crushed, locked, cut-off, damaged): {n:?}");
+        assert!(
+            n[0] > 0 && n[1] > 0 && n[4] > 0,
+            "smoke state too tame: {n:?}"
+        );
+
+        let gp = GpuParticles::upload(&gpu, &sim.particles);
+        let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
+        let clock = gpu.buffer("clock", &[dt.to_bits(), 0u32]);
+        let pass = ConcretePass::new(&gpu, &gp, &uniform, &clock).unwrap();
+        run_once(&gpu, |p| pass.record(p)).unwrap();
+        let mut back = sim.particles.clone();
+        gp.download(&gpu, &mut back).unwrap();
+
+        // Relative to each field's largest value: a few roundings per operation, fused on the
+        // GPU, pow/log within ~2 ulp; the pressure is a difference of terms of size K·μ, the
+        // strength a function of it, so their errors scale with the field rather than the value.
+        // The history fields (rho, energy, damage, mu_max, eps_p) are compared by their
+        // increments in this step, or a wrong increment would hide under the accumulated value.
+        let before = &sim.particles;
+        for (name, a, b, start, tol) in [
+            ("rho", &back.rho, &cpu.rho, &before.rho, 1.0e-6),
+            ("energy", &back.energy, &cpu.energy, &before.energy, 1.0e-5),
+            ("damage", &back.damage, &cpu.damage, &before.damage, 1.0e-5),
+            ("mu_max", &back.mu_max, &cpu.mu_max, &before.mu_max, 1.0e-6),
+            ("eps_p", &back.eps_p, &cpu.eps_p, &before.eps_p, 1.0e-5),
+        ] {
+            let e = increment_error(a, b, start);
+            eprintln!("concrete {name} increment: relative error {e:e}");
+            assert!(e <= tol, "{name} increment: relative error {e:e} > {tol:e}");
+        }
+        for (name, a, b, tol) in [
+            ("p", &back.p, &cpu.p, 1.0e-5),
+            ("s_rr", &back.s_rr, &cpu.s_rr, 1.0e-5),
+            ("s_zz", &back.s_zz, &cpu.s_zz, 1.0e-5),
+            ("s_rz", &back.s_rz, &cpu.s_rz, 1.0e-5),
+            ("s_tt", &back.s_tt, &cpu.s_tt, 1.0e-5),
+            ("sound", &back.sound, &cpu.sound, 1.0e-6),
+        ] {
+            let e = field_error(a, b);
+            eprintln!("concrete {name}: relative error {e:e}");
+            assert!(e <= tol, "{name}: relative error {e:e} > {tol:e}");
+        }
+    }
+}
