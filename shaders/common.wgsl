@@ -41,3 +41,9 @@ fn kernel_grad(k: KernelParams, d: vec2<f32>, dist: f32) -> vec2<f32> {
     }
     return (kernel_dw(k, dist) / dist) * d;
 }
+
+// sph_rates::hoop_radius: r floored at 0.1 h (particles are kept that far off the axis), so the
+// 1/r terms of the SPH passes stay finite.
+fn hoop_radius(ri: f32, h: f32) -> f32 {
+    return max(ri, 0.1 * h);
+}

@@ -1,7 +1,7 @@
 // `concrete` (CPU twin: src/cpu/concrete.rs): per particle, the HJC update (physics.md §3.1) in
 // the OpenRadioss LAW126 order: density from continuity, EOS with crushing, trial deviator
 // (Jaumann), strength with the new pressure and the old damage, radial scaling, damage from
-// Δε_p + Δμ_p; then the energy. Needs params.wgsl and hjc.wgsl.
+// Δε_p + Δμ_p; then the energy. Needs params.wgsl, deviator.wgsl and hjc.wgsl.
 
 @group(0) @binding(0) var<uniform> u: SphUniform;
 @group(0) @binding(1) var<storage, read> clock: Clock;
@@ -24,41 +24,6 @@
 @group(0) @binding(18) var<storage, read_write> mu_max: array<f32>;
 @group(0) @binding(19) var<storage, read_write> eps_p: array<f32>;
 @group(0) @binding(20) var<storage, read_write> sound: array<f32>;
-
-// sph_rates::hoop_radius: r floored at 0.1 h so the hoop terms stay finite on the axis.
-fn hoop_radius(ri: f32, h: f32) -> f32 {
-    return max(ri, 0.1 * h);
-}
-
-// The deviatoric update of src/cpu/deviator.rs; components (rr, zz, rz, θθ), rz tensorial.
-
-// Deviator of the rate of deformation.
-fn deviatoric_rate(d: vec4<f32>) -> vec4<f32> {
-    let vol = d.x + d.y + d.w;
-    return vec4<f32>(d.x - vol / 3.0, d.y - vol / 3.0, d.z, d.w - vol / 3.0);
-}
-
-// Elastic trial deviator after dt with the Jaumann terms of the r–z spin ω.
-fn jaumann_trial(s: vec4<f32>, dev: vec4<f32>, spin: f32, g: f32, dt: f32) -> vec4<f32> {
-    let g2 = 2.0 * g;
-    return vec4<f32>(
-        s.x + dt * (g2 * dev.x + 2.0 * spin * s.z),
-        s.y + dt * (g2 * dev.y - 2.0 * spin * s.z),
-        s.z + dt * (g2 * dev.z + spin * (s.y - s.x)),
-        s.w + dt * (g2 * dev.w),
-    );
-}
-
-// Equivalent strain rate sqrt(2/3 dev:dev).
-fn equivalent_rate(dev: vec4<f32>) -> f32 {
-    return sqrt(2.0 / 3.0
-        * (dev.x * dev.x + dev.y * dev.y + 2.0 * dev.z * dev.z + dev.w * dev.w));
-}
-
-// Von Mises stress sqrt(3/2 S:S) of a deviator.
-fn von_mises(s: vec4<f32>) -> f32 {
-    return sqrt(1.5 * (s.x * s.x + s.y * s.y + 2.0 * s.z * s.z + s.w * s.w));
-}
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -4,41 +4,44 @@
 // plus the hoop sources a_r += (S_rr − S_θθ)/(ρ r), a_z += S_rz/(ρ r); Monaghan–Gingold
 // viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled.
 // Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
-// Needs params.wgsl and grid.wgsl.
+// Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
 
 @group(0) @binding(0) var<uniform> u: SphUniform;
 @group(0) @binding(1) var<storage, read> grid: GridInfo;
 @group(0) @binding(2) var<storage, read> cell_start: array<u32>;
 @group(0) @binding(3) var<storage, read> sorted: array<u32>;
-@group(0) @binding(4) var<storage, read> r: array<f32>;
-@group(0) @binding(5) var<storage, read> z: array<f32>;
-@group(0) @binding(6) var<storage, read> vr: array<f32>;
-@group(0) @binding(7) var<storage, read> vz: array<f32>;
-@group(0) @binding(8) var<storage, read> rho: array<f32>;
-@group(0) @binding(9) var<storage, read> p: array<f32>;
-@group(0) @binding(10) var<storage, read> s_rr: array<f32>;
-@group(0) @binding(11) var<storage, read> s_zz: array<f32>;
-@group(0) @binding(12) var<storage, read> s_rz: array<f32>;
-@group(0) @binding(13) var<storage, read> s_tt: array<f32>;
-@group(0) @binding(14) var<storage, read> sound: array<f32>;
-@group(0) @binding(15) var<storage, read> m_tilde: array<f32>;
-// Written by `prologue`, read by `forces`.
-@group(0) @binding(16) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
-@group(0) @binding(17) var<storage, read_write> art_stress: array<array<f32, 3>>;
-@group(0) @binding(18) var<storage, read_write> ar: array<f32>;
-@group(0) @binding(19) var<storage, read_write> az: array<f32>;
-@group(0) @binding(20) var<storage, read_write> de_visc: array<f32>;
-@group(0) @binding(21) var<storage, read_write> mu_visc: array<f32>;
+// The neighbours pass's (r, z, v_r, v_z) and lists (neighbour_loop.wgsl).
+@group(0) @binding(4) var<storage, read> kin: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> nbr: array<u32>;
+@group(0) @binding(6) var<storage, read> nbr_count: array<u32>;
+@group(0) @binding(7) var<storage, read> rho: array<f32>;
+@group(0) @binding(8) var<storage, read> p: array<f32>;
+@group(0) @binding(9) var<storage, read> s_rr: array<f32>;
+@group(0) @binding(10) var<storage, read> s_zz: array<f32>;
+@group(0) @binding(11) var<storage, read> s_rz: array<f32>;
+@group(0) @binding(12) var<storage, read> s_tt: array<f32>;
+@group(0) @binding(13) var<storage, read> sound: array<f32>;
+@group(0) @binding(14) var<storage, read> m_tilde: array<f32>;
+// Written by `prologue`, read by `forces`: the state's σ/ρ² and R, and what a neighbour
+// contributes packed for one load each: (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and (c, ρ).
+@group(0) @binding(15) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
+@group(0) @binding(16) var<storage, read_write> art_stress: array<array<f32, 3>>;
+@group(0) @binding(17) var<storage, read_write> pair_s: array<vec4<f32>>;
+@group(0) @binding(18) var<storage, read_write> pair_c: array<vec2<f32>>;
+@group(0) @binding(19) var<storage, read_write> ar: array<f32>;
+@group(0) @binding(20) var<storage, read_write> az: array<f32>;
+@group(0) @binding(21) var<storage, read_write> de_visc: array<f32>;
+@group(0) @binding(22) var<storage, read_write> mu_visc: array<f32>;
+
+// The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
+// constant, so a scene without it compiles without it (a branch not taken still costs on a
+// SIMD-on-CPU adapter such as lavapipe, which runs both sides under a mask).
+override ART_STRESS: bool;
 
 // η² of the viscosity's singularity guard, in units of h².
 const ETA2: f32 = 0.01;
 // Smallest base handed to pow (undefined for a base <= 0); W > 0 inside the support anyway.
 const POW_BASE_FLOOR: f32 = 1.0e-30;
-
-// sph_rates::hoop_radius: r floored at 0.1 h so the hoop terms stay finite on the axis.
-fn hoop_radius(ri: f32, h: f32) -> f32 {
-    return max(ri, 0.1 * h);
-}
 
 fn vec3_of(a: array<f32, 3>) -> vec3<f32> {
     return vec3<f32>(a[0], a[1], a[2]);
@@ -64,44 +67,56 @@ fn prologue(@builtin(global_invocation_id) gid: vec3<u32>) {
     let j = gid.x;
     if (j >= u.n) { return; }
     let inv = 1.0 / (rho[j] * rho[j]);
-    stress_rho2[j] = array<f32, 3>((s_rr[j] - p[j]) * inv, (s_zz[j] - p[j]) * inv, s_rz[j] * inv);
-    if (u.art_stress_eps > 0.0) {
+    let sr = vec3<f32>((s_rr[j] - p[j]) * inv, (s_zz[j] - p[j]) * inv, s_rz[j] * inv);
+    stress_rho2[j] = array<f32, 3>(sr.x, sr.y, sr.z);
+    pair_s[j] = vec4<f32>(sr, m_tilde[j]);
+    pair_c[j] = vec2<f32>(sound[j], rho[j]);
+    if (ART_STRESS) {
         let a = artificial_stress(u.art_stress_eps, s_rr[j] - p[j], s_zz[j] - p[j], s_rz[j], rho[j]);
         art_stress[j] = array<f32, 3>(a.x, a.y, a.z);
     }
 }
 
-// What the neighbour loop accumulates for particle i.
+// What the neighbour loop accumulates for particle i, and i's own values it reads (loaded
+// once: a driver may not hoist loads out of the loop, lavapipe does not).
 struct Gather {
     acc: vec2<f32>,
     heat: f32,
     mu_max: f32,
+    s: vec3<f32>,
+    art: vec3<f32>,
+    v: vec2<f32>,
+    sound: f32,
+    rho: f32,
 }
 
 // The pair term of neighbour j (its mirror image when sign = −1) at separation d = x_i − x_j.
-fn pair(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
+fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
     let h = u.kernel.h;
-    let mj = m_tilde[j];
+    let pj = pair_s[j];
+    let mj = pj.w;
     let gw = kernel_grad(u.kernel, d, dist);
-    let si = vec3_of(stress_rho2[i]);
-    let sj = vec3_of(stress_rho2[j]);
+    let si = (*g).s;
+    let sj = pj.xyz;
     var t = vec3<f32>(si.x + sj.x, si.y + sj.y, si.z + sign * sj.z);
 
-    let dvr = vr[i] - sign * vr[j];
-    let dvz = vz[i] - vz[j];
+    let vj = kin[j].zw;
+    let dvr = (*g).v.x - sign * vj.x;
+    let dvz = (*g).v.y - vj.y;
     let vx = dvr * d.x + dvz * d.y;
     if (vx < 0.0) {
         let mu = h * vx / (dist * dist + ETA2 * h * h);
-        let c_mean = 0.5 * (sound[i] + sound[j]);
-        let rho_mean = 0.5 * (rho[i] + rho[j]);
+        let cj = pair_c[j];
+        let c_mean = 0.5 * ((*g).sound + cj.x);
+        let rho_mean = 0.5 * ((*g).rho + cj.y);
         let pi = (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
         t.x -= pi;
         t.y -= pi;
         (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y);
         (*g).mu_max = max((*g).mu_max, -mu);
     }
-    if (u.art_stress_eps > 0.0) {
-        let ri_art = vec3_of(art_stress[i]);
+    if (ART_STRESS) {
+        let ri_art = (*g).art;
         let rj_art = vec3_of(art_stress[j]);
         let f = pow(max(kernel_w(u.kernel, dist) / u.w_spacing, POW_BASE_FLOOR), u.art_stress_n);
         t.x += f * (ri_art.x + rj_art.x);
@@ -112,51 +127,22 @@ fn pair(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign:
     (*g).acc.y += mj * (t.z * gw.x + t.y * gw.y);
 }
 
-// Per particle: the gather over the 5x5 cells in CellGrid::for_each_candidate's order, each
-// candidate as a real neighbour (j != i) and, near the axis, as its mirror ghost (j = i too),
-// as cpu::neighbours::for_each_neighbour; then the hoop sources.
+// Per particle: the gather over neighbours and axis ghosts (neighbour_loop.wgsl), then the
+// hoop sources.
 @compute @workgroup_size(64)
 fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
-    let info = grid;
-    let ri = r[i];
-    let zi = z[i];
-    let support = 2.0 * u.kernel.h;
-    let s2 = support * support;
-    let near_axis = ri < support;
-    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0);
-
-    let c = grid_cell(info, ri, zi);
-    let r_lo = select(c.x - GRID_REACH, 0u, c.x < GRID_REACH);
-    let r_hi = min(c.x + GRID_REACH, info.n_r - 1u);
-    let z_lo = select(c.y - GRID_REACH, 0u, c.y < GRID_REACH);
-    let z_hi = min(c.y + GRID_REACH, info.n_z - 1u);
-    for (var cz = z_lo; cz <= z_hi; cz++) {
-        let row = cz * info.n_r;
-        let end = cell_start[row + r_hi + 1u];
-        for (var k = cell_start[row + r_lo]; k < end; k++) {
-            let j = sorted[k];
-            let dz = zi - z[j];
-            let dz2 = dz * dz;
-            if (j != i) {
-                let dr = ri - r[j];
-                let d2 = dr * dr + dz2;
-                if (d2 < s2) {
-                    pair(&g, i, j, vec2<f32>(dr, dz), sqrt(d2), 1.0);
-                }
-            }
-            if (near_axis) {
-                let dr = ri + r[j];
-                let d2 = dr * dr + dz2;
-                if (d2 < s2) {
-                    pair(&g, i, j, vec2<f32>(dr, dz), sqrt(d2), -1.0);
-                }
-            }
-        }
+    let ki = kin[i];
+    let ci = pair_c[i];
+    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw, ci.x,
+        ci.y);
+    if (ART_STRESS) {
+        g.art = vec3_of(art_stress[i]);
     }
+    for_each_neighbour(&g, i);
 
-    let rr = hoop_radius(ri, u.kernel.h);
+    let rr = hoop_radius(ki.x, u.kernel.h);
     var acc = g.acc;
     acc.x += (s_rr[i] - s_tt[i]) / (rho[i] * rr);
     acc.y += s_rz[i] / (rho[i] * rr);

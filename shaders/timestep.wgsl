@@ -1,7 +1,7 @@
 // The stable time step (CPU twin: integrate::particle_dt, integrate::element_dt and
-// Simulation::stable_dt): a min-reduction over particles and elements into the clock, a
-// workgroup minimum first so that only one atomic per workgroup reaches the clock. The minimum
-// is order-independent, so the result is deterministic. Needs params.wgsl and step.wgsl.
+// Simulation::stable_dt): a min-reduction over particles and elements into the clock, each
+// thread folding a strided share first so that few atomics reach the clock. The minimum is
+// order-independent, so the result is deterministic. Needs params.wgsl and step.wgsl.
 
 @group(0) @binding(0) var<uniform> u: StepUniform;
 @group(0) @binding(1) var<storage, read_write> clock: ClockAtomic;
@@ -11,22 +11,6 @@
 @group(0) @binding(4) var<storage, read> c: array<f32>;
 @group(0) @binding(5) var<storage, read> d: array<f32>;
 
-var<workgroup> lowest: array<u32, 64>;
-
-fn reduce_min(local: u32, bits: u32) {
-    lowest[local] = bits;
-    workgroupBarrier();
-    for (var stride = 32u; stride > 0u; stride = stride >> 1u) {
-        if (local < stride) {
-            lowest[local] = min(lowest[local], lowest[local + stride]);
-        }
-        workgroupBarrier();
-    }
-    if (local == 0u) {
-        atomicMin(&clock.dt_next_bits, lowest[0]);
-    }
-}
-
 // A candidate as bits that order like the value; NaN and negatives never win.
 fn candidate_bits(x: f32) -> u32 {
     if (x >= 0.0 && x <= 3.4028235e38) {
@@ -35,29 +19,32 @@ fn candidate_bits(x: f32) -> u32 {
     return F32_MAX_BITS;
 }
 
+// Particle i's stable step, h / (c + |v| + 1.2 (alpha c + beta mu_max)) (Monaghan 1992).
+fn particle_bits(i: u32) -> u32 {
+    let cs = a[i];
+    let v = sqrt(b[i] * b[i] + c[i] * c[i]);
+    return candidate_bits(u.h / (cs + v + 1.2 * (u.alpha * cs + u.beta * d[i])));
+}
+
+// Each thread folds the items gid, gid + stride, … (gpu::Kernel::dispatch_fold), then one atomic.
 @compute @workgroup_size(64)
 fn particle_dt(@builtin(global_invocation_id) gid: vec3<u32>,
-               @builtin(local_invocation_index) local: u32) {
-    let i = gid.x;
+               @builtin(num_workgroups) groups: vec3<u32>) {
     var bits = F32_MAX_BITS;
-    if (i < u.n_particles) {
-        // h / (c + |v| + 1.2 (alpha c + beta mu_max)) (Monaghan 1992).
-        let cs = a[i];
-        let v = sqrt(b[i] * b[i] + c[i] * c[i]);
-        bits = candidate_bits(u.h / (cs + v + 1.2 * (u.alpha * cs + u.beta * d[i])));
+    for (var i = gid.x; i < u.n_particles; i += groups.x * WG) {
+        bits = min(bits, particle_bits(i));
     }
-    reduce_min(local, bits);
+    atomicMin(&clock.dt_next_bits, bits);
 }
 
 @compute @workgroup_size(64)
 fn element_dt(@builtin(global_invocation_id) gid: vec3<u32>,
-              @builtin(local_invocation_index) local: u32) {
-    let i = gid.x;
+              @builtin(num_workgroups) groups: vec3<u32>) {
     var bits = F32_MAX_BITS;
-    if (i < u.n_elements) {
-        bits = candidate_bits(a[i]);
+    for (var i = gid.x; i < u.n_elements; i += groups.x * WG) {
+        bits = min(bits, candidate_bits(a[i]));
     }
-    reduce_min(local, bits);
+    atomicMin(&clock.dt_next_bits, bits);
 }
 
 // One thread: the next step is the minimum times the CFL number; the running minimum resets.

@@ -14,7 +14,8 @@ pub struct CellGrid {
     /// `sorted[cell_start[c]..cell_start[c + 1]]` are the particles of cell c.
     pub cell_start: Vec<u32>,
     pub sorted: Vec<u32>,
-    cell_of: Vec<u32>,
+    /// Scratch of `run`: each particle's cell.
+    pub cell_of: Vec<u32>,
 }
 
 /// Cells searched on each side of a particle's own cell.
@@ -145,9 +146,11 @@ pub struct Neighbour {
     pub mirror: bool,
 }
 
-/// Call `f` for every neighbour of particle i within `support`: the real ones (j ≠ i) and the
-/// axis ghosts (j = i included). A ghost of j is never nearer than j itself, so the ghosts are
-/// found among the same candidates.
+/// Call `f` for every neighbour of particle i within `support`: first the real ones (j ≠ i),
+/// then, near the axis, the axis ghosts (j = i included). A ghost of j is never nearer than j
+/// itself, so the ghosts are found among the same candidates. (Two sweeps, not one, so that the
+/// GPU twin, shaders/neighbour_loop.wgsl, can skip the ghost sweep away from the axis; the
+/// order of the sums is the same on both sides.)
 #[inline]
 pub fn for_each_neighbour(
     grid: &CellGrid,
@@ -159,26 +162,25 @@ pub fn for_each_neighbour(
 ) {
     let (ri, zi) = (r[i], z[i]);
     let s2 = support * support;
-    let near_axis = ri < support;
     grid.for_each_candidate(ri, zi, |j| {
+        let dr = ri - r[j];
         let dz = zi - z[j];
-        let dz2 = dz * dz;
-        if j != i {
-            let dr = ri - r[j];
-            let d2 = dr * dr + dz2;
-            if d2 < s2 {
-                f(Neighbour {
-                    j,
-                    dr,
-                    dz,
-                    dist: d2.sqrt(),
-                    mirror: false,
-                });
-            }
+        let d2 = dr * dr + dz * dz;
+        if d2 < s2 && j != i {
+            f(Neighbour {
+                j,
+                dr,
+                dz,
+                dist: d2.sqrt(),
+                mirror: false,
+            });
         }
-        if near_axis {
+    });
+    if ri < support {
+        grid.for_each_candidate(ri, zi, |j| {
             let dr = ri + r[j];
-            let d2 = dr * dr + dz2;
+            let dz = zi - z[j];
+            let d2 = dr * dr + dz * dz;
             if d2 < s2 {
                 f(Neighbour {
                     j,
@@ -188,6 +190,6 @@ pub fn for_each_neighbour(
                     mirror: true,
                 });
             }
-        }
-    });
+        });
+    }
 }

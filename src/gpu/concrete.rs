@@ -1,13 +1,16 @@
-//! `concrete` on the GPU (shaders/concrete.wgsl, with the HJC law in shaders/hjc.wgsl); CPU
-//! twin `cpu::concrete::run` with `materials::hjc`.
+//! `concrete` on the GPU (shaders/concrete.wgsl, with the HJC law in shaders/hjc.wgsl and the
+//! deviatoric helpers in shaders/deviator.wgsl); CPU twin `cpu::concrete::run` with
+//! `materials::hjc` and `cpu::deviator`.
 
 use super::state::GpuParticles;
 use super::{source, Gpu, Kernel, Slot};
 
-/// The WGSL of the concrete pass: the uniform blocks, the HJC law, then `pass`.
+/// The WGSL of the concrete pass: the uniform blocks, the deviatoric helpers shared with
+/// `fem_stress`, the HJC law, then `pass`.
 fn hjc_source(pass: &str) -> String {
     source(&[
         include_str!("../../shaders/params.wgsl"),
+        include_str!("../../shaders/deviator.wgsl"),
         include_str!("../../shaders/hjc.wgsl"),
         pass,
     ])

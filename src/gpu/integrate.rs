@@ -206,23 +206,19 @@ impl IntegratePass {
         if let Some((k, b)) = &self.particles {
             k.dispatch(pass, b, self.n_particles);
         }
-        k_dispatch(&self.nodes, pass, self.n_nodes);
+        self.nodes.0.dispatch(pass, &self.nodes.1, self.n_nodes);
     }
 
     /// The next Δt into the clock, from the particles' and elements' current state.
     pub fn record_timestep(&self, pass: &mut wgpu::ComputePass) {
-        if let Some(kb) = &self.particle_dt {
-            k_dispatch(kb, pass, self.n_particles);
+        if let Some((k, b)) = &self.particle_dt {
+            k.dispatch_fold(pass, b, self.n_particles);
         }
-        if let Some(kb) = &self.element_dt {
-            k_dispatch(kb, pass, self.n_elements);
+        if let Some((k, b)) = &self.element_dt {
+            k.dispatch_fold(pass, b, self.n_elements);
         }
         self.finish.0.dispatch_groups(pass, &self.finish.1, 1);
     }
-}
-
-fn k_dispatch(kb: &(Kernel, wgpu::BindGroup), pass: &mut wgpu::ComputePass, n: u32) {
-    kb.0.dispatch(pass, &kb.1, n);
 }
 
 #[cfg(test)]

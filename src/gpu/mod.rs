@@ -9,10 +9,15 @@
 
 pub mod concrete;
 pub mod contact;
+pub mod fem;
 pub mod integrate;
+pub mod neighbours;
 pub mod params;
+pub mod scan;
 pub mod sph_forces;
+pub mod sph_rates;
 pub mod state;
+pub mod step;
 
 use std::sync::{Arc, Mutex};
 
@@ -20,6 +25,9 @@ use bytemuck::Pod;
 
 /// Threads per workgroup in every shader (`@workgroup_size(64)`).
 pub const WORKGROUP: u32 = 64;
+
+/// Items each thread of a reduction folds (`Kernel::dispatch_fold`).
+pub const FOLD: u32 = 32;
 
 /// Storage buffers the widest pass binds at once (sph_forces); the adapter must allow this many
 /// per shader stage.
@@ -110,6 +118,8 @@ pub struct Gpu {
     /// Timestamp queries inside compute passes are available (for `bench`).
     pub timestamps: bool,
     errors: Arc<Mutex<Vec<String>>>,
+    /// Bytes of buffers created through `buffer`, `zeros` and `uniform`.
+    allocated: std::sync::atomic::AtomicU64,
 }
 
 /// How a shader binding is used (binding i of a kernel is slot i).
@@ -199,7 +209,18 @@ impl Gpu {
                 wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES,
             ),
             errors,
+            allocated: Default::default(),
         })
+    }
+
+    /// Bytes of buffers allocated so far.
+    pub fn allocated(&self) -> u64 {
+        self.allocated.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    fn count(&self, bytes: u64) {
+        self.allocated
+            .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
     }
 
     /// "name (backend)" for summaries.
@@ -235,6 +256,7 @@ impl Gpu {
     pub fn buffer<T: Pod>(&self, label: &str, data: &[T]) -> wgpu::Buffer {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let size = (bytes.len() as u64).max(16).next_multiple_of(4);
+        self.count(size);
         let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
@@ -254,6 +276,7 @@ impl Gpu {
         let size = ((count * std::mem::size_of::<T>()) as u64)
             .max(16)
             .next_multiple_of(4);
+        self.count(size);
         self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size,
@@ -364,6 +387,19 @@ impl Gpu {
         entry: &str,
         slots: &[Slot],
     ) -> Result<Kernel, String> {
+        self.kernel_with(name, source, entry, slots, &[])
+    }
+
+    /// `kernel` with values for the shader's pipeline-overridable constants (`override`): what
+    /// a scene does not need is then compiled out, not skipped at run time.
+    pub fn kernel_with(
+        &self,
+        name: &str,
+        source: &str,
+        entry: &str,
+        slots: &[Slot],
+        constants: &[(&str, f64)],
+    ) -> Result<Kernel, String> {
         let module = self
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -408,7 +444,10 @@ impl Gpu {
                 layout: Some(&pipeline_layout),
                 module: &module,
                 entry_point: Some(entry),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    ..Default::default()
+                },
                 cache: None,
             });
         if let Some(e) = self.take_error() {
@@ -456,6 +495,17 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind, &[]);
         pass.dispatch_workgroups(items.div_ceil(WORKGROUP), 1, 1);
+    }
+
+    /// Record a reduction over `items`: each thread folds `FOLD` items (strided by the whole
+    /// dispatch) before its one atomic, so the shader needs no workgroup barrier (a barrier
+    /// swaps every SIMD chunk of the workgroup in and out on lavapipe) and the atomics stay
+    /// few.
+    pub fn dispatch_fold(&self, pass: &mut wgpu::ComputePass, bind: &wgpu::BindGroup, items: u32) {
+        if items == 0 {
+            return;
+        }
+        self.dispatch_groups(pass, bind, items.div_ceil(WORKGROUP * FOLD));
     }
 
     /// Record a dispatch of exactly `groups` workgroups.

@@ -1,12 +1,14 @@
 //! `sph_forces` on the GPU (shaders/sph_forces.wgsl); CPU twin `cpu::sph_forces::run`.
 
+use super::neighbours::GpuGrid;
 use super::state::GpuParticles;
 use super::{source, Gpu, Kernel, Slot};
 
 /// Bindings of shaders/sph_forces.wgsl, shared by both entry points: SphUniform, the grid
-/// (GridInfo, cell_start, sorted), 12 read fields, then stress_rho2 and art_stress (written by
-/// `prologue`, read by `forces`) and the four outputs of `forces`.
-const SLOTS: [Slot; 22] = [
+/// (GridInfo, cell_start, sorted), kin and the lists, 8 read fields, then what `prologue`
+/// writes for `forces` (stress_rho2, art_stress, pair_s, pair_c) and the four outputs of
+/// `forces`.
+const SLOTS: [Slot; 23] = [
     Slot::Uniform,
     Slot::Read,
     Slot::Read,
@@ -22,7 +24,8 @@ const SLOTS: [Slot; 22] = [
     Slot::Read,
     Slot::Read,
     Slot::Read,
-    Slot::Read,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
     Slot::ReadWrite,
     Slot::ReadWrite,
     Slot::ReadWrite,
@@ -41,34 +44,38 @@ pub struct SphForcesPass {
     prologue_bind: wgpu::BindGroup,
     forces_bind: wgpu::BindGroup,
     n: u32,
+    // The packed neighbour data (pair_s, pair_c), kept alive for the bind groups.
+    _pairs: [wgpu::Buffer; 2],
 }
 
 impl SphForcesPass {
     pub fn new(
         gpu: &Gpu,
         particles: &GpuParticles,
-        grid_info: &wgpu::Buffer,
-        cell_start: &wgpu::Buffer,
-        sorted: &wgpu::Buffer,
+        grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
+        art_stress: bool,
     ) -> Result<SphForcesPass, String> {
         let src = source(&[
             include_str!("../../shaders/params.wgsl"),
             include_str!("../../shaders/grid.wgsl"),
+            include_str!("../../shaders/neighbour_loop.wgsl"),
             include_str!("../../shaders/sph_forces.wgsl"),
         ]);
-        let prologue = gpu.kernel("sph_forces.prologue", &src, "prologue", &SLOTS)?;
-        let forces = gpu.kernel("sph_forces.forces", &src, "forces", &SLOTS)?;
+        let art = [("ART_STRESS", f64::from(u8::from(art_stress)))];
+        let prologue = gpu.kernel_with("sph_forces.prologue", &src, "prologue", &SLOTS, &art)?;
+        let forces = gpu.kernel_with("sph_forces.forces", &src, "forces", &SLOTS, &art)?;
         let p = particles;
+        let pair_s = gpu.zeros::<[f32; 4]>("sph_forces pair_s", p.len);
+        let pair_c = gpu.zeros::<[f32; 2]>("sph_forces pair_c", p.len);
         let buffers = [
             sph_uniform,
-            grid_info,
-            cell_start,
-            sorted,
-            &p.r,
-            &p.z,
-            &p.vr,
-            &p.vz,
+            &grid.info,
+            &grid.cell_start,
+            &grid.sorted,
+            &grid.kin,
+            &grid.nbr,
+            &grid.nbr_count,
             &p.rho,
             &p.p,
             &p.s_rr,
@@ -79,6 +86,8 @@ impl SphForcesPass {
             &p.m_tilde,
             &p.stress_rho2,
             &p.art_stress,
+            &pair_s,
+            &pair_c,
             &p.ar,
             &p.az,
             &p.de_visc,
@@ -90,6 +99,7 @@ impl SphForcesPass {
             prologue,
             forces,
             n: p.len as u32,
+            _pairs: [pair_s, pair_c],
         })
     }
 
@@ -102,36 +112,13 @@ impl SphForcesPass {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cpu::neighbours::CellGrid;
     use crate::gpu::concrete::tests::{field_error, smoke, SMOKE_STEPS};
+    use crate::gpu::neighbours::tests::upload_cpu_grid;
     use crate::gpu::params::SphUniform;
     use crate::gpu::{run_once, test_gpu};
 
-    /// The CPU grid as the GPU stores it: GridInfo (shaders/grid.wgsl; the bound keys unused),
-    /// cell_start and sorted.
-    fn upload_grid(gpu: &Gpu, g: &CellGrid) -> [wgpu::Buffer; 3] {
-        let cells = g.n_r * g.n_z;
-        let info = [
-            0,
-            0,
-            0,
-            g.n_r,
-            g.n_z,
-            g.cell.to_bits(),
-            g.z0.to_bits(),
-            cells,
-            cells,
-            0,
-        ];
-        [
-            gpu.buffer("grid info", &info),
-            gpu.buffer("cell_start", &g.cell_start),
-            gpu.buffer("sorted", &g.sorted),
-        ]
-    }
-
     /// One sph_forces pass agrees with cpu::sph_forces::run on the smoke state.
-    fn compare(overrides: &[String]) {
+    fn compare(overrides: &[String], lists: bool) {
         let gpu = test_gpu();
         let sim = smoke(SMOKE_STEPS, overrides);
         let sph = sim.sph.expect("smoke has a target");
@@ -152,9 +139,9 @@ mod tests {
         start.stress_rho2.fill([f32::NAN; 3]);
         start.art_stress.fill([f32::NAN; 3]);
         let gp = GpuParticles::upload(&gpu, &start);
-        let [info, cell_start, sorted] = upload_grid(&gpu, &sim.grid);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
-        let pass = SphForcesPass::new(&gpu, &gp, &info, &cell_start, &sorted, &uniform).unwrap();
+        let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
+        let pass = SphForcesPass::new(&gpu, &gp, &grid, &uniform, art_on).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -202,11 +189,16 @@ mod tests {
 
     #[test]
     fn sph_forces_match_cpu() {
-        compare(&[]);
+        compare(&[], true);
+    }
+
+    #[test]
+    fn sph_forces_on_overflowed_lists_match_cpu() {
+        compare(&[], false);
     }
 
     #[test]
     fn sph_forces_with_artificial_stress_match_cpu() {
-        compare(&["target.artificial_stress=true".into()]);
+        compare(&["target.artificial_stress=true".into()], true);
     }
 }

@@ -1,0 +1,217 @@
+// `fem_stress` (CPU twin: src/cpu/fem_stress.rs, `update_element`): per element, geometry and
+// strain rates of the linear triangle, the Jaumann trial, Johnson–Cook radial return with
+// adiabatic heating and damage, the EOS with the energy predictor, bulk viscosity, the energy,
+// the nodal forces and the stable step (physics.md §2). Needs params.wgsl, step.wgsl,
+// deviator.wgsl, johnson_cook.wgsl and steel_eos.wgsl.
+
+@group(0) @binding(0) var<uniform> u: FemUniform;
+@group(0) @binding(1) var<storage, read> clock: Clock;
+@group(0) @binding(2) var<storage, read_write> status: array<atomic<u32>>;
+@group(0) @binding(3) var<storage, read> r: array<f32>;
+@group(0) @binding(4) var<storage, read> z: array<f32>;
+@group(0) @binding(5) var<storage, read> vr: array<f32>;
+@group(0) @binding(6) var<storage, read> vz: array<f32>;
+// Elements.nodes, [u32; 3] per element.
+@group(0) @binding(7) var<storage, read> nodes: array<u32>;
+@group(0) @binding(8) var<storage, read> volume0: array<f32>;
+@group(0) @binding(9) var<storage, read_write> s_rr: array<f32>;
+@group(0) @binding(10) var<storage, read_write> s_zz: array<f32>;
+@group(0) @binding(11) var<storage, read_write> s_rz: array<f32>;
+@group(0) @binding(12) var<storage, read_write> s_tt: array<f32>;
+@group(0) @binding(13) var<storage, read_write> p: array<f32>;
+@group(0) @binding(14) var<storage, read_write> energy: array<f32>;
+@group(0) @binding(15) var<storage, read_write> eps_p: array<f32>;
+@group(0) @binding(16) var<storage, read_write> temperature: array<f32>;
+@group(0) @binding(17) var<storage, read_write> damage: array<f32>;
+@group(0) @binding(18) var<storage, read_write> failed: array<u32>;
+// Elements.force, [f32; 6] per element: r_i, z_i, r_j, z_j, r_m, z_m.
+@group(0) @binding(19) var<storage, read_write> force: array<f32>;
+// The element's stable step (not the clock's Δt).
+@group(0) @binding(20) var<storage, read_write> dt: array<f32>;
+@group(0) @binding(21) var<storage, read_write> plastic_work: array<f32>;
+// Running sum of plastic_work over the steps (J), summed by the host at output time.
+@group(0) @binding(22) var<storage, read_write> plastic_total: array<f32>;
+
+// std::f32::consts::PI after rounding to f32.
+const FEM_PI: f32 = 3.141592653589793;
+
+// fem_stress::Geometry: shape data at the current position, b_i = z_j − z_m, c_i = r_m − r_j.
+struct Geometry {
+    r: vec3<f32>,
+    z: vec3<f32>,
+    b: vec3<f32>,
+    c: vec3<f32>,
+    two_area: f32,
+    r_mean: f32,
+}
+
+fn geometry(e: u32) -> Geometry {
+    let n = vec3<u32>(nodes[3u * e], nodes[3u * e + 1u], nodes[3u * e + 2u]);
+    let rr = vec3<f32>(r[n.x], r[n.y], r[n.z]);
+    let zz = vec3<f32>(z[n.x], z[n.y], z[n.z]);
+    let b = vec3<f32>(zz.y - zz.z, zz.z - zz.x, zz.x - zz.y);
+    let c = vec3<f32>(rr.z - rr.y, rr.x - rr.z, rr.y - rr.x);
+    // From the edge vectors: translation invariant, better in f32 than Σ r_i b_i.
+    let two_area = (rr.y - rr.x) * (zz.z - zz.x) - (rr.z - rr.x) * (zz.y - zz.x);
+    return Geometry(rr, zz, b, c, two_area, (rr.x + rr.y + rr.z) / 3.0);
+}
+
+// Smallest altitude: 2A over the longest edge.
+fn min_altitude(g: Geometry) -> f32 {
+    var longest = 0.0;
+    for (var k = 0u; k < 3u; k++) {
+        longest = max(longest, sqrt(g.b[k] * g.b[k] + g.c[k] * g.c[k]));
+    }
+    return g.two_area / longest;
+}
+
+// fem_stress::StrainRate: ε̇_r, ε̇_z, engineering γ̇_rz, ε̇_θ and the spin ω.
+struct StrainRate {
+    rr: f32,
+    zz: f32,
+    gamma_rz: f32,
+    tt: f32,
+    spin: f32,
+}
+
+fn strain_rate(g: Geometry, v_r: vec3<f32>, v_z: vec3<f32>) -> StrainRate {
+    let inv = 1.0 / g.two_area;
+    // Velocities relative to node 0 (Σ b_k = Σ c_k = 0): a rigid translation gives exactly 0.
+    let ur = vec2<f32>(v_r.y - v_r.x, v_r.z - v_r.x);
+    let uz = vec2<f32>(v_z.y - v_z.x, v_z.z - v_z.x);
+    let rr = g.b.y * ur.x + g.b.z * ur.y;
+    let zz = g.c.y * uz.x + g.c.z * uz.y;
+    let drdz = g.c.y * ur.x + g.c.z * ur.y;
+    let dzdr = g.b.y * uz.x + g.b.z * uz.y;
+    let r_sum = g.r.x + g.r.y + g.r.z;
+    return StrainRate(
+        rr * inv,
+        zz * inv,
+        (drdz + dzdr) * inv,
+        (v_r.x + v_r.y + v_r.z) / r_sum,
+        0.5 * (drdz - dzdr) * inv,
+    );
+}
+
+// fem_stress::total_stress: σ = S − p I, (rr, zz, rz, θθ).
+fn total_stress(s: vec4<f32>, pressure: f32) -> vec4<f32> {
+    return vec4<f32>(s.x - pressure, s.y - pressure, s.z, s.w - pressure);
+}
+
+// Stress::power: σ:ε̇ (W/m³) with the engineering shear rate.
+fn stress_power(s: vec4<f32>, d: StrainRate) -> f32 {
+    return s.x * d.rr + s.y * d.zz + s.z * d.gamma_rz + s.w * d.tt;
+}
+
+// fem_stress::nodal_forces, physics.md §2 eq. (1)-(2) in the power-consistent form:
+// F_r,k = −π r̄ (σ_r b_k + τ c_k) − 2πA σ_θ/3, F_z,k = −π r̄ (σ_z c_k + τ b_k).
+fn write_nodal_forces(e: u32, g: Geometry, s: vec4<f32>) {
+    let pr = FEM_PI * g.r_mean;
+    // 2πAσ_θ/3 with 2A = two_area.
+    let hoop = FEM_PI * g.two_area * s.w / 3.0;
+    for (var k = 0u; k < 3u; k++) {
+        force[6u * e + 2u * k] = -pr * (s.x * g.b[k] + s.z * g.c[k]) - hoop;
+        force[6u * e + 2u * k + 1u] = -pr * (s.y * g.c[k] + s.z * g.b[k]);
+    }
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let e = gid.x;
+    if (e >= u.n_elements) { return; }
+    let step_dt = clock.dt;
+    let g = geometry(e);
+    // Inverted or degenerate (NaN fails the comparison): the host stops the run and names the
+    // smallest such element; its state is left as it was, as on the CPU.
+    if (!(g.two_area > 0.0)) {
+        atomicMin(&status[STATUS_INVERTED_ELEMENT], e);
+        return;
+    }
+    let n = vec3<u32>(nodes[3u * e], nodes[3u * e + 1u], nodes[3u * e + 2u]);
+    let d = strain_rate(g, vec3<f32>(vr[n.x], vr[n.y], vr[n.z]),
+        vec3<f32>(vz[n.x], vz[n.y], vz[n.z]));
+    let volume = FEM_PI * g.r_mean * g.two_area;
+    let rel_volume = volume / volume0[e];
+    let rho = u.density / rel_volume;
+    let mu = 1.0 / rel_volume - 1.0;
+    let g_mod = u.shear_modulus;
+
+    let s_old = vec4<f32>(s_rr[e], s_zz[e], s_rz[e], s_tt[e]);
+    let p_old = p[e];
+    let old_power = stress_power(total_stress(s_old, p_old), d);
+
+    let rate = vec4<f32>(d.rr, d.zz, 0.5 * d.gamma_rz, d.tt);
+    let dev = deviatoric_rate(rate);
+    let vol = volumetric_rate(rate);
+    let eq_rate = equivalent_rate(dev);
+    var s = jaumann_trial(s_old, dev, d.spin, g_mod, step_dt);
+    var work = 0.0;
+    var eps = eps_p[e];
+    var temp = temperature[e];
+    var dmg = damage[e];
+    var is_failed = failed[e] != 0u;
+    if (is_failed) {
+        s = vec4<f32>(0.0);
+    } else {
+        let ret = jc_radial_return(u, g_mod, von_mises(s), eps, eq_rate, temp, u.return_iterations);
+        if (ret.d_eps_p > 0.0) {
+            s = s * ret.scale;
+            eps = eps + ret.d_eps_p;
+            // Adiabatic heating ΔT = β σ_y Δε_p /(ρ c_p), physics.md §2.1.
+            let work_density = ret.flow_stress * ret.d_eps_p;
+            temp = temp + u.taylor_quinney * work_density / (rho * u.specific_heat);
+            work = work_density * volume;
+        }
+        if (u.has_damage != 0u) {
+            let seq_new = von_mises(s);
+            // Mean stress of the start of the step, as on the CPU (the new p comes later).
+            let mean = -p_old;
+            // select evaluates both: the discarded mean/0 of a zero deviator is harmless.
+            let triax = select(0.0, mean / seq_new, seq_new > 0.0);
+            let t_star = jc_homologous_temperature(u, temp);
+            dmg = dmg + jc_damage_increment(u, ret.d_eps_p, triax, eq_rate, u.eps_rate_ref, t_star);
+            if (dmg >= 1.0 || jc_spalls(u, mean)) {
+                dmg = min(dmg, 1.0);
+                is_failed = true;
+                s = vec4<f32>(0.0);
+            }
+        }
+    }
+
+    // EOS with the energy predicted from the old stress power, eq. (14).
+    let e_old = energy[e];
+    let e_pred = e_old + step_dt * rel_volume * old_power;
+    var p_new = steel_eos_pressure(u, mu, e_pred);
+    if (is_failed) {
+        // A failed element takes no tension.
+        p_new = max(p_new, 0.0);
+    }
+
+    // Bulk viscosity on compression only: it spreads shocks, which only compression forms.
+    let length = min_altitude(g);
+    let k_t = steel_eos_bulk_tangent(u, mu);
+    let c = sqrt((k_t + 4.0 / 3.0 * g_mod) / rho);
+    var q = 0.0;
+    if (vol < 0.0) {
+        q = rho * length * (u.q_quad * length * vol * vol - u.q_lin * c * vol);
+    }
+
+    s_rr[e] = s.x;
+    s_zz[e] = s.y;
+    s_rz[e] = s.z;
+    s_tt[e] = s.w;
+    p[e] = p_new;
+    eps_p[e] = eps;
+    temperature[e] = temp;
+    damage[e] = dmg;
+    failed[e] = select(0u, 1u, is_failed);
+    // Per reference volume: trapezoidal in the stress, plus the viscous heating −q tr ε̇.
+    let power = 0.5 * (old_power + stress_power(total_stress(s, p_new), d)) - q * vol;
+    energy[e] = e_old + step_dt * rel_volume * power;
+    write_nodal_forces(e, g, total_stress(s, p_new + q));
+
+    let q_hat = u.q_quad * length * max(-vol, 0.0) + u.q_lin * c;
+    dt[e] = length / (q_hat + sqrt(q_hat * q_hat + c * c));
+    plastic_work[e] = work;
+    plastic_total[e] = plastic_total[e] + work;
+}

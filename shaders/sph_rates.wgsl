@@ -1,0 +1,88 @@
+// `sph_rates` (CPU twin: src/cpu/sph_rates.rs): per particle, the velocity gradient
+// L = G M⁻¹ gathered over neighbours and axis ghosts with planar areas m̃/ρ (physics.md §3),
+// corrected where M is well conditioned, and the density rate ρ̇ = −ρ (L_rr + L_zz + v_r/r).
+// Two entry points over one binding list: `areas` (m̃ and m̃/ρ per particle), then `gradient`.
+// Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
+
+@group(0) @binding(0) var<uniform> u: SphUniform;
+@group(0) @binding(1) var<storage, read> grid: GridInfo;
+@group(0) @binding(2) var<storage, read> cell_start: array<u32>;
+@group(0) @binding(3) var<storage, read> sorted: array<u32>;
+// The neighbours pass's (r, z, v_r, v_z) and lists (neighbour_loop.wgsl).
+@group(0) @binding(4) var<storage, read> kin: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> nbr: array<u32>;
+@group(0) @binding(6) var<storage, read> nbr_count: array<u32>;
+@group(0) @binding(7) var<storage, read> mass: array<f32>;
+@group(0) @binding(8) var<storage, read> rho: array<f32>;
+// Written by `areas`, read by `gradient`.
+@group(0) @binding(9) var<storage, read_write> m_tilde: array<f32>;
+@group(0) @binding(10) var<storage, read_write> area: array<f32>;
+@group(0) @binding(11) var<storage, read_write> l_rr: array<f32>;
+@group(0) @binding(12) var<storage, read_write> l_rz: array<f32>;
+@group(0) @binding(13) var<storage, read_write> l_zr: array<f32>;
+@group(0) @binding(14) var<storage, read_write> l_zz: array<f32>;
+@group(0) @binding(15) var<storage, read_write> drho: array<f32>;
+
+// 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
+const TWO_PI: f32 = 6.2831855;
+// sph_rates.rs MIN_CORRECTION_DET.
+const MIN_CORRECTION_DET: f32 = 0.25;
+
+@compute @workgroup_size(64)
+fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= u.n) { return; }
+    let mt = mass[i] / (TWO_PI * hoop_radius(kin[i].x, u.kernel.h));
+    m_tilde[i] = mt;
+    area[i] = mt / rho[i];
+}
+
+// G = Σ (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇W and M = Σ (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇W, row-major
+// (rr, rz, zr, zz).
+// v is particle i's velocity, loaded once (a driver may not hoist loads out of the loop).
+struct Gather {
+    g: vec4<f32>,
+    m: vec4<f32>,
+    v: vec2<f32>,
+}
+
+fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
+    let a = area[j];
+    let gw = kernel_grad(u.kernel, d, dist);
+    let vj = kin[j].zw;
+    let dvr = sign * vj.x - (*acc).v.x;
+    let dvz = vj.y - (*acc).v.y;
+    // Products in the CPU's order, (a v) w, for the closest agreement.
+    (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
+    (*acc).m -= vec4<f32>(a * d.x * gw.x, a * d.x * gw.y, a * d.y * gw.x, a * d.y * gw.y);
+}
+
+// sph_rates.rs `correct`: L = G M⁻¹ where det M is large enough, else G.
+fn correct(g: vec4<f32>, m: vec4<f32>) -> vec4<f32> {
+    let det = m.x * m.w - m.y * m.z;
+    if (det < MIN_CORRECTION_DET) {
+        return g;
+    }
+    let inv = vec4<f32>(m.w / det, -m.y / det, -m.z / det, m.x / det);
+    return vec4<f32>(
+        g.x * inv.x + g.y * inv.z,
+        g.x * inv.y + g.y * inv.w,
+        g.z * inv.x + g.w * inv.z,
+        g.z * inv.y + g.w * inv.w,
+    );
+}
+
+@compute @workgroup_size(64)
+fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= u.n) { return; }
+    let ki = kin[i];
+    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), ki.zw);
+    for_each_neighbour(&acc, i);
+    let l = correct(acc.g, acc.m);
+    l_rr[i] = l.x;
+    l_rz[i] = l.y;
+    l_zr[i] = l.z;
+    l_zz[i] = l.w;
+    drho[i] = -rho[i] * (l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h));
+}

@@ -1,0 +1,375 @@
+//! `neighbours` on the GPU (shaders/neighbours.wgsl, the scan in shaders/scan.wgsl, the lists
+//! in shaders/neighbour_list.wgsl); CPU twins `cpu::neighbours::run` and
+//! `cpu::neighbours::for_each_neighbour`. The grid it builds (GridInfo of shaders/grid.wgsl,
+//! `cell_start`, `sorted`) and each particle's neighbour list are what `sph_rates` and
+//! `sph_forces` walk.
+
+use super::scan::PrefixScan;
+use super::state::GpuParticles;
+use super::{source, Gpu, Kernel, Slot};
+
+/// The grid on the GPU: `GridInfo` words, `cell_start` (capacity + 1 entries) and `sorted`;
+/// the neighbour lists: `nbr` (NBR_MAX per particle, column-major) and `nbr_count`; and `kin`,
+/// each particle's (r, z, v_r, v_z) packed for the gathers (shaders/neighbour_loop.wgsl).
+pub struct GpuGrid {
+    pub info: wgpu::Buffer,
+    pub cell_start: wgpu::Buffer,
+    pub sorted: wgpu::Buffer,
+    pub nbr: wgpu::Buffer,
+    pub nbr_count: wgpu::Buffer,
+    pub kin: wgpu::Buffer,
+}
+
+/// Neighbours a list holds per particle (shaders/neighbour_loop.wgsl NBR_MAX). A concrete
+/// lattice at h = 1.5 Δ has about 28 within the support, up to 35 where the projectile has
+/// compacted it (measured on the Forrestal 277 m/s shot); a particle with more is walked on the
+/// grid instead, so this bounds memory, not correctness.
+pub const NBR_MAX: usize = 64;
+
+impl GpuGrid {
+    /// The grid's buffers for `n` particles and `capacity` cells, with `info` as given.
+    fn new(gpu: &Gpu, info: &[u32], cell_start: wgpu::Buffer, n: usize) -> Result<GpuGrid, String> {
+        gpu.check_binding_size("the neighbour lists", (4 * NBR_MAX * n) as u64)?;
+        Ok(GpuGrid {
+            info: gpu.buffer("grid info", info),
+            cell_start,
+            sorted: gpu.zeros::<u32>("sorted", n),
+            nbr: gpu.zeros::<u32>("neighbour lists", NBR_MAX * n),
+            nbr_count: gpu.zeros::<u32>("neighbour counts", n),
+            kin: gpu.zeros::<[f32; 4]>("packed kinematics", n),
+        })
+    }
+}
+
+/// Bindings of shaders/neighbour_list.wgsl: SphUniform, the grid, kin, then the lists.
+const LIST_SLOTS: [Slot; 7] = [
+    Slot::Uniform,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+];
+
+/// The `list` kernel over a grid.
+struct ListKernel {
+    kernel: Kernel,
+    bind: wgpu::BindGroup,
+}
+
+impl ListKernel {
+    fn new(gpu: &Gpu, grid: &GpuGrid, sph_uniform: &wgpu::Buffer) -> Result<ListKernel, String> {
+        let src = source(&[
+            include_str!("../../shaders/params.wgsl"),
+            include_str!("../../shaders/grid.wgsl"),
+            include_str!("../../shaders/neighbour_loop.wgsl"),
+            include_str!("../../shaders/neighbour_list.wgsl"),
+        ]);
+        let kernel = gpu.kernel("neighbours.list", &src, "list", &LIST_SLOTS)?;
+        let bind = kernel.bind(
+            gpu,
+            &[
+                sph_uniform,
+                &grid.info,
+                &grid.cell_start,
+                &grid.sorted,
+                &grid.kin,
+                &grid.nbr,
+                &grid.nbr_count,
+            ],
+        );
+        Ok(ListKernel { kernel, bind })
+    }
+}
+
+/// `GridInfo` words of shaders/grid.wgsl: the bound keys, n_r, n_z, cell, z0, cells, capacity,
+/// overflow.
+const INFO_WORDS: usize = 10;
+const INFO_CAPACITY: usize = 8;
+const INFO_OVERFLOW: usize = 9;
+
+/// Bindings of shaders/neighbours.wgsl: SphUniform, GridInfo, cell_start, sorted, cell_of,
+/// rank, then r, z, vr, vz and kin.
+const SLOTS: [Slot; 11] = [
+    Slot::Uniform,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::ReadWrite,
+];
+
+/// The counting sort of the particles into cells, rebuilt every step.
+pub struct NeighboursPass {
+    bounds: Kernel,
+    setup: Kernel,
+    clear: Kernel,
+    count: Kernel,
+    scan: PrefixScan,
+    scatter: Kernel,
+    sort_cells: Kernel,
+    list: ListKernel,
+    bind: wgpu::BindGroup,
+    n: u32,
+    /// Workgroups of the grid-stride loops over the cells.
+    cell_groups: u32,
+    info: wgpu::Buffer,
+    // Kept alive for the bind group.
+    _scratch: [wgpu::Buffer; 2],
+}
+
+impl NeighboursPass {
+    /// The pass and the grid it fills, for up to `capacity` cells (beyond that the grid
+    /// coarsens).
+    pub fn new(
+        gpu: &Gpu,
+        particles: &GpuParticles,
+        sph_uniform: &wgpu::Buffer,
+        capacity: u32,
+    ) -> Result<(NeighboursPass, GpuGrid), String> {
+        let src = source(&[
+            include_str!("../../shaders/params.wgsl"),
+            include_str!("../../shaders/grid.wgsl"),
+            include_str!("../../shaders/neighbours.wgsl"),
+        ]);
+        let kernel = |entry: &str| gpu.kernel(&format!("neighbours.{entry}"), &src, entry, &SLOTS);
+        let capacity = capacity.max(1);
+        gpu.check_binding_size("the neighbour grid's cells", 4 * (capacity as u64 + 1))?;
+        let n = particles.len;
+        // The bound keys start at the identities of their reductions (neighbours.wgsl setup
+        // resets them the same way after each use).
+        let mut words = [0u32; INFO_WORDS];
+        words[0] = 0x8000_0000; // float_key(0.0)
+        words[1] = u32::MAX;
+        words[INFO_CAPACITY] = capacity;
+        let cell_start = gpu.zeros::<u32>("cell_start", capacity as usize + 1);
+        let grid = GpuGrid::new(gpu, &words, cell_start, n)?;
+        let cell_of = gpu.zeros::<u32>("cell_of", n);
+        let rank = gpu.zeros::<u32>("rank in cell", n);
+        let bounds = kernel("bounds")?;
+        let bind = bounds.bind(
+            gpu,
+            &[
+                sph_uniform,
+                &grid.info,
+                &grid.cell_start,
+                &grid.sorted,
+                &cell_of,
+                &rank,
+                &particles.r,
+                &particles.z,
+                &particles.vr,
+                &particles.vz,
+                &grid.kin,
+            ],
+        );
+        let pass = NeighboursPass {
+            bounds,
+            setup: kernel("setup")?,
+            clear: kernel("clear")?,
+            count: kernel("count")?,
+            scan: PrefixScan::new(gpu, &grid.cell_start, capacity + 1)?,
+            scatter: kernel("scatter")?,
+            sort_cells: kernel("sort_cells")?,
+            list: ListKernel::new(gpu, &grid, sph_uniform)?,
+            bind,
+            n: n as u32,
+            cell_groups: (capacity + 1)
+                .div_ceil(super::WORKGROUP)
+                .min(gpu.limits.max_compute_workgroups_per_dimension),
+            info: grid.info.clone(),
+            _scratch: [cell_of, rank],
+        };
+        Ok((pass, grid))
+    }
+
+    pub fn record(&self, pass: &mut wgpu::ComputePass) {
+        self.bounds.dispatch_fold(pass, &self.bind, self.n);
+        self.setup.dispatch_groups(pass, &self.bind, 1);
+        self.clear
+            .dispatch_groups(pass, &self.bind, self.cell_groups);
+        self.count.dispatch(pass, &self.bind, self.n);
+        self.scan.record(pass);
+        self.scatter.dispatch(pass, &self.bind, self.n);
+        self.sort_cells
+            .dispatch_groups(pass, &self.bind, self.cell_groups);
+        self.list.kernel.dispatch(pass, &self.list.bind, self.n);
+    }
+
+    /// True when the last build needed more cells than its capacity and coarsened the grid
+    /// (a read-back: for reports, not for the step).
+    pub fn coarsened(&self, gpu: &Gpu) -> Result<bool, String> {
+        let words: Vec<u32> = gpu.read(&self.info, INFO_WORDS)?;
+        Ok(words[INFO_OVERFLOW] != 0)
+    }
+}
+
+/// Cells to allocate for a target: four times the lattice's own count at cells of half the
+/// support, room for the cloud to bulge and splash before the grid coarsens.
+pub fn capacity(r: &[f32], z: &[f32], support: f32) -> u32 {
+    let cell = support / 2.0;
+    let r_max = r.iter().copied().fold(0.0f32, f32::max);
+    let (lo, hi) = z
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), &z| (lo.min(z), hi.max(z)));
+    let cells = ((r_max / cell) as u64 + 1) * (((hi - lo).max(0.0) / cell) as u64 + 1);
+    (4 * cells).min(u32::MAX as u64 / 2) as u32
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::cpu::neighbours::CellGrid;
+    use crate::gpu::concrete::tests::{smoke, SMOKE_STEPS};
+    use crate::gpu::params::SphUniform;
+    use crate::gpu::{run_once, test_gpu};
+
+    /// A grid the CPU built, uploaded as the GPU stores it (the bound keys are unused), for the
+    /// gather passes' tests: with the neighbour lists built on it, or with every list marked
+    /// overflowed (`lists` false), so that the gathers walk the grid.
+    pub(crate) fn upload_cpu_grid(
+        gpu: &crate::gpu::Gpu,
+        particles: &crate::state::Particles,
+        sph_uniform: &wgpu::Buffer,
+        g: &CellGrid,
+        lists: bool,
+    ) -> GpuGrid {
+        let cells = g.n_r * g.n_z;
+        let mut info = [0u32; INFO_WORDS];
+        info[3] = g.n_r;
+        info[4] = g.n_z;
+        info[5] = g.cell.to_bits();
+        info[6] = g.z0.to_bits();
+        info[7] = cells;
+        info[INFO_CAPACITY] = cells;
+        let n = particles.len();
+        let grid = GpuGrid::new(gpu, &info, gpu.buffer("cell_start", &g.cell_start), n).unwrap();
+        gpu.write(&grid.sorted, &g.sorted);
+        let p = particles;
+        let kin: Vec<[f32; 4]> = (0..n).map(|i| [p.r[i], p.z[i], p.vr[i], p.vz[i]]).collect();
+        gpu.write(&grid.kin, &kin);
+        if lists {
+            let list = ListKernel::new(gpu, &grid, sph_uniform).unwrap();
+            run_once(gpu, |p| list.kernel.dispatch(p, &list.bind, n as u32)).unwrap();
+        } else {
+            gpu.write(&grid.nbr_count, &vec![NBR_MAX as u32 + 1; n]);
+        }
+        grid
+    }
+
+    /// What the GPU built for a set of particles.
+    struct Built {
+        grid: CellGrid,
+        overflow: u32,
+        /// Per particle: its listed neighbours as (j, mirror), or None where the list overflowed.
+        lists: Vec<Option<Vec<(usize, bool)>>>,
+    }
+
+    /// Build the GPU grid and lists for `particles` (twice, to exercise the reset of the
+    /// bounds) and read them back.
+    fn gpu_build(
+        particles: &crate::state::Particles,
+        sph: &crate::state::SphParams,
+        capacity: u32,
+    ) -> Built {
+        let gpu = test_gpu();
+        let gp = GpuParticles::upload(&gpu, particles);
+        let uniform = gpu.uniform("sph", &SphUniform::new(sph, gp.len));
+        let (pass, grid) = NeighboursPass::new(&gpu, &gp, &uniform, capacity).unwrap();
+        run_once(&gpu, |p| pass.record(p)).unwrap();
+        run_once(&gpu, |p| pass.record(p)).unwrap();
+        let info: Vec<u32> = gpu.read(&grid.info, INFO_WORDS).unwrap();
+        let n = particles.len();
+        let cells = (info[3] * info[4]) as usize;
+        let nbr: Vec<u32> = gpu.read(&grid.nbr, NBR_MAX * n).unwrap();
+        let counts: Vec<u32> = gpu.read(&grid.nbr_count, n).unwrap();
+        let lists = (0..n)
+            .map(|i| {
+                let count = counts[i] as usize;
+                (count <= NBR_MAX).then(|| {
+                    (0..count)
+                        .map(|k| {
+                            let e = nbr[k * n + i];
+                            ((e & 0x7fff_ffff) as usize, e & 0x8000_0000 != 0)
+                        })
+                        .collect()
+                })
+            })
+            .collect();
+        Built {
+            grid: CellGrid {
+                cell: f32::from_bits(info[5]),
+                z0: f32::from_bits(info[6]),
+                n_r: info[3],
+                n_z: info[4],
+                cell_start: gpu.read(&grid.cell_start, cells + 1).unwrap(),
+                sorted: gpu.read(&grid.sorted, n).unwrap(),
+                cell_of: Vec::new(),
+            },
+            overflow: info[INFO_OVERFLOW],
+            lists,
+        }
+    }
+
+    /// On the smoke state (the nose has cratered the target), the GPU's grid is the CPU's,
+    /// exactly: same shape, same cell starts, same order within every cell; and each list holds
+    /// the neighbours cpu::neighbours::for_each_neighbour visits, in its order.
+    #[test]
+    fn grid_and_lists_match_cpu_exactly() {
+        let sim = smoke(SMOKE_STEPS, &[]);
+        let sph = sim.sph.unwrap();
+        let p = &sim.particles;
+        let support = crate::cpu::integrate::support(&sph);
+        let mut cpu = CellGrid::default();
+        crate::cpu::neighbours::run(&mut cpu, &p.r, &p.z, support);
+        let built = gpu_build(p, &sph, capacity(&p.r, &p.z, support));
+        let g = &built.grid;
+        assert_eq!((g.n_r, g.n_z, built.overflow), (cpu.n_r, cpu.n_z, 0));
+        assert_eq!((g.cell, g.z0), (cpu.cell, cpu.z0));
+        assert_eq!(g.cell_start, cpu.cell_start);
+        assert_eq!(g.sorted, cpu.sorted);
+        let mut ghosts = 0;
+        for (i, list) in built.lists.iter().enumerate() {
+            let mut want = Vec::new();
+            crate::cpu::neighbours::for_each_neighbour(&cpu, &p.r, &p.z, i, support, |nb| {
+                want.push((nb.j, nb.mirror))
+            });
+            ghosts += want.iter().filter(|x| x.1).count();
+            assert_eq!(list.as_ref(), Some(&want), "particle {i}");
+        }
+        assert!(ghosts > 0, "the lists hold axis ghosts");
+    }
+
+    /// With too few cells allocated the grid coarsens, and the 5×5-cell search still finds
+    /// every neighbour within the support.
+    #[test]
+    fn coarsened_grid_still_finds_every_neighbour() {
+        let sim = smoke(0, &[]);
+        let sph = sim.sph.unwrap();
+        let p = &sim.particles;
+        let support = crate::cpu::integrate::support(&sph);
+        let built = gpu_build(p, &sph, 40);
+        let grid = &built.grid;
+        assert_eq!(built.overflow, 1);
+        assert!(grid.n_r * grid.n_z <= 40 && grid.cell >= support / 2.0);
+        for i in (0..p.len()).step_by(7) {
+            let mut found = Vec::new();
+            grid.for_each_candidate(p.r[i], p.z[i], |j| {
+                if (p.r[i] - p.r[j]).hypot(p.z[i] - p.z[j]) < support {
+                    found.push(j)
+                }
+            });
+            found.sort();
+            let brute: Vec<usize> = (0..p.len())
+                .filter(|&j| (p.r[i] - p.r[j]).hypot(p.z[i] - p.z[j]) < support)
+                .collect();
+            assert_eq!(found, brute, "particle {i}");
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! `sph_rates` on the GPU (shaders/sph_rates.wgsl); CPU twin `cpu::sph_rates::run`.
+
+use super::neighbours::GpuGrid;
+use super::state::GpuParticles;
+use super::{source, Gpu, Kernel, Slot};
+
+/// Bindings of shaders/sph_rates.wgsl: SphUniform, the grid (GridInfo, cell_start, sorted),
+/// kin and the lists, mass and rho, then m_tilde and area (written by `areas`, read by
+/// `gradient`) and the 5 outputs of `gradient`.
+const SLOTS: [Slot; 16] = [
+    Slot::Uniform,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::Read,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+    Slot::ReadWrite,
+];
+
+/// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
+/// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz and drho.
+pub struct SphRatesPass {
+    areas: Kernel,
+    gradient: Kernel,
+    bind: wgpu::BindGroup,
+    n: u32,
+}
+
+impl SphRatesPass {
+    pub fn new(
+        gpu: &Gpu,
+        particles: &GpuParticles,
+        grid: &GpuGrid,
+        sph_uniform: &wgpu::Buffer,
+    ) -> Result<SphRatesPass, String> {
+        let src = source(&[
+            include_str!("../../shaders/params.wgsl"),
+            include_str!("../../shaders/grid.wgsl"),
+            include_str!("../../shaders/neighbour_loop.wgsl"),
+            include_str!("../../shaders/sph_rates.wgsl"),
+        ]);
+        let areas = gpu.kernel("sph_rates.areas", &src, "areas", &SLOTS)?;
+        let gradient = gpu.kernel("sph_rates.gradient", &src, "gradient", &SLOTS)?;
+        let p = particles;
+        // One layout for both entry points, so one bind group serves both.
+        let bind = areas.bind(
+            gpu,
+            &[
+                sph_uniform,
+                &grid.info,
+                &grid.cell_start,
+                &grid.sorted,
+                &grid.kin,
+                &grid.nbr,
+                &grid.nbr_count,
+                &p.mass,
+                &p.rho,
+                &p.m_tilde,
+                &p.area,
+                &p.l_rr,
+                &p.l_rz,
+                &p.l_zr,
+                &p.l_zz,
+                &p.drho,
+            ],
+        );
+        Ok(SphRatesPass {
+            areas,
+            gradient,
+            bind,
+            n: p.len as u32,
+        })
+    }
+
+    pub fn record(&self, pass: &mut wgpu::ComputePass) {
+        self.areas.dispatch(pass, &self.bind, self.n);
+        self.gradient.dispatch(pass, &self.bind, self.n);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::concrete::tests::{field_error, smoke, SMOKE_STEPS};
+    use crate::gpu::neighbours::tests::upload_cpu_grid;
+    use crate::gpu::params::SphUniform;
+    use crate::gpu::{run_once, test_gpu};
+
+    /// One sph_rates pass agrees with cpu::sph_rates::run on the smoke state (a crater, the
+    /// axis, free surfaces where the correction is skipped), walking the neighbour lists or,
+    /// where they overflowed, the grid.
+    fn compare(lists: bool) {
+        let gpu = test_gpu();
+        let sim = smoke(SMOKE_STEPS, &[]);
+        let sph = sim.sph.expect("smoke has a target");
+        let mut cpu = sim.particles.clone();
+        crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
+
+        // The GPU starts from poisoned outputs, so whatever it does not write shows.
+        let mut start = sim.particles.clone();
+        for v in [
+            &mut start.m_tilde,
+            &mut start.area,
+            &mut start.l_rr,
+            &mut start.l_rz,
+            &mut start.l_zr,
+            &mut start.l_zz,
+            &mut start.drho,
+        ] {
+            v.fill(f32::NAN);
+        }
+        let gp = GpuParticles::upload(&gpu, &start);
+        let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
+        let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform).unwrap();
+        run_once(&gpu, |p| pass.record(p)).unwrap();
+        let mut back = start.clone();
+        gp.download(&gpu, &mut back).unwrap();
+
+        let moving = cpu.drho.iter().filter(|&&x| x != 0.0).count();
+        eprintln!("sph_rates: {moving} of {} particles compressing", cpu.len());
+        assert!(moving > 0, "the smoke state is at rest");
+        // Sums of ~30 products each rounded once, the same terms in the same order; the
+        // driver may fuse multiply-adds (gpu-notes.md), so a few ulp of the field's scale.
+        // drho is ρ times a sum of terms that cancel at rest: compared on the same scale.
+        for (name, a, b) in [
+            ("m_tilde", &back.m_tilde, &cpu.m_tilde),
+            ("area", &back.area, &cpu.area),
+            ("l_rr", &back.l_rr, &cpu.l_rr),
+            ("l_rz", &back.l_rz, &cpu.l_rz),
+            ("l_zr", &back.l_zr, &cpu.l_zr),
+            ("l_zz", &back.l_zz, &cpu.l_zz),
+            ("drho", &back.drho, &cpu.drho),
+        ] {
+            let e = field_error(a, b);
+            eprintln!("sph_rates (lists {lists}) {name}: relative error {e:e}");
+            assert!(e <= 1.0e-5, "{name}: relative error {e:e}");
+        }
+    }
+
+    #[test]
+    fn sph_rates_match_cpu() {
+        compare(true);
+    }
+
+    #[test]
+    fn sph_rates_on_overflowed_lists_match_cpu() {
+        compare(false);
+    }
+}

@@ -1,0 +1,618 @@
+//! The whole step on the GPU (architecture.md, "Shape of one step"), with one read-back per step.
+//!
+//! One submission holds the second half of step k−1 and the first half of step k:
+//!
+//! ```text
+//! apply (k−1's corrected slaves) → neighbours → sph_rates → concrete → sph_forces
+//!   → fem_stress → fem_forces → Δt reduction (clock.dt = Δt_k)
+//!   → integrate (Δt_k) → contact detect → copy clock, status, hits, nodes to the staging buffer
+//! ```
+//!
+//! then one mapping brings back Δt_k, the status words, the hits with their slaves' kinematics
+//! and the nodes' positions and velocities; the host applies the λ correction and the global
+//! shift (physics.md §4, `contact::correct`) and writes the corrected slaves and node velocities
+//! for the next submission. `flush` runs a pending second half alone, so that the GPU state is
+//! the CPU's after the same number of `Simulation::step` calls (for outputs).
+
+use super::contact::ContactPass;
+use super::fem::FemPass;
+use super::integrate::{
+    Accumulators, IntegratePass, StepUniform, STATUS_CLEAR, STATUS_INVERTED_ELEMENT,
+    STATUS_NODE_ESCAPED, STATUS_NODE_NONFINITE, STATUS_PARTICLE_ESCAPED, STATUS_PARTICLE_NONFINITE,
+    STATUS_WORDS,
+};
+use super::neighbours::{GpuGrid, NeighboursPass};
+use super::params::{FemUniform, SphUniform};
+use super::state::{GpuElements, GpuNodes, GpuParticles};
+use super::Gpu;
+use crate::state::{FemParams, Particles, Projectile, SphParams};
+
+/// The SPH passes of a scene with a target.
+struct SphPasses {
+    particles: GpuParticles,
+    neighbours: NeighboursPass,
+    // Kept alive for the bind groups that use it.
+    _grid: GpuGrid,
+    rates: super::sph_rates::SphRatesPass,
+    concrete: super::concrete::ConcretePass,
+    forces: super::sph_forces::SphForcesPass,
+    contact: Option<ContactPass>,
+}
+
+/// What one step's read-back holds.
+pub struct Readback {
+    /// The Δt this step integrated with.
+    pub dt: f32,
+    pub status: [u32; STATUS_WORDS],
+    /// (slave, master) pairs, in the order the GPU appended them.
+    pub hits: Vec<(u32, u32)>,
+    /// (r, z, vr, vz) of each hit's slave after integration.
+    pub hit_data: Vec<[f32; 4]>,
+    pub node_r: Vec<f32>,
+    pub node_z: Vec<f32>,
+    pub node_vr: Vec<f32>,
+    pub node_vz: Vec<f32>,
+}
+
+/// Byte offsets in the staging buffer.
+struct Layout {
+    status: u64,
+    hits: u64,
+    hit_data: u64,
+    nodes: u64,
+    size: u64,
+}
+
+pub struct GpuStep {
+    pub gpu: Gpu,
+    sph: Option<SphPasses>,
+    nodes: GpuNodes,
+    elements: GpuElements,
+    fem: Option<FemPass>,
+    integrate: IntegratePass,
+    acc: Accumulators,
+    clock: wgpu::Buffer,
+    status: wgpu::Buffer,
+    plastic_total: wgpu::Buffer,
+    // Uniforms, kept alive for the bind groups.
+    _uniforms: Vec<wgpu::Buffer>,
+    staging: wgpu::Buffer,
+    layout: Layout,
+    hit_capacity: usize,
+    n_nodes: usize,
+    /// Corrected slaves written for the next submission.
+    pending_fixes: u32,
+    /// The second half of the last step (forces, Δt) has not been recorded yet.
+    pending_forces: bool,
+    /// Timestamps between passes (`bench`), where the adapter has them.
+    profiler: Option<Profiler>,
+}
+
+/// The step's passes in recording order, as the profiler names its intervals.
+pub const PROFILED: [&str; 10] = [
+    "contact_apply",
+    "neighbours",
+    "sph_rates",
+    "concrete",
+    "sph_forces",
+    "fem_stress",
+    "fem_forces",
+    "timestep",
+    "integrate",
+    "contact_detect",
+];
+
+/// GPU timestamps written after each pass of a step.
+struct Profiler {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    staging: wgpu::Buffer,
+}
+
+impl Profiler {
+    const SLOTS: u32 = PROFILED.len() as u32 + 1;
+
+    fn mark(&self, pass: &mut wgpu::ComputePass, slot: u32) {
+        pass.write_timestamp(&self.queries, slot);
+    }
+}
+
+/// What the GPU step needs from the model.
+pub struct StepSetup<'a> {
+    pub particles: Option<(&'a Particles, &'a SphParams)>,
+    pub projectile: &'a Projectile,
+    pub fem: &'a FemParams,
+    /// The projectile deforms (FEM passes built).
+    pub deformable: bool,
+    pub slaves: &'a [u32],
+    pub contact: bool,
+    pub wall_z: Option<f32>,
+    pub escape: f32,
+    pub cfl: f32,
+    /// The first step's Δt (from the CPU's start-up evaluation).
+    pub dt: f32,
+}
+
+impl GpuStep {
+    pub fn new(gpu: Gpu, s: &StepSetup) -> Result<GpuStep, String> {
+        let nodes = GpuNodes::upload(&gpu, &s.projectile.nodes);
+        let elements = GpuElements::upload(&gpu, &s.projectile.elements);
+        let n_particles = s.particles.map_or(0, |(p, _)| p.len());
+        gpu.check_binding_size("the particles' stress arrays", (n_particles * 12) as u64)?;
+        let largest = n_particles.max(s.projectile.elements.len()) as u64;
+        let groups = largest.div_ceil(super::WORKGROUP as u64);
+        if groups > gpu.limits.max_compute_workgroups_per_dimension as u64 {
+            return Err(format!(
+                "scene too big for adapter {}: {largest} particles need {groups} workgroups in one                  dispatch, max_compute_workgroups_per_dimension is {}",
+                gpu.info.name, gpu.limits.max_compute_workgroups_per_dimension
+            ));
+        }
+        let (h, alpha, beta) = s
+            .particles
+            .map_or((0.0, 0.0, 0.0), |(_, sp)| (sp.h, sp.alpha, sp.beta));
+        let slaves: &[u32] = if s.contact { s.slaves } else { &[] };
+        let hit_capacity = slaves.len().clamp(1, 4096);
+        let u = StepUniform {
+            n_particles: n_particles as u32,
+            n_nodes: s.projectile.nodes.len() as u32,
+            n_elements: s.projectile.elements.len() as u32,
+            n_slaves: slaves.len() as u32,
+            n_masters: s.projectile.masters.len() as u32,
+            has_wall: u32::from(s.wall_z.is_some()),
+            wall_z: s.wall_z.unwrap_or(0.0),
+            escape: s.escape,
+            r_min: 0.1 * h,
+            h,
+            alpha,
+            beta,
+            cfl: s.cfl,
+            has_fem: u32::from(s.deformable),
+            hit_capacity: hit_capacity as u32,
+        };
+        let step_uniform = gpu.uniform("step", &u);
+        let clock = gpu.buffer("clock", &[s.dt.to_bits(), f32::MAX.to_bits()]);
+        let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
+        let plastic_total = gpu.zeros::<f32>("plastic work", s.projectile.elements.len());
+        let acc = Accumulators::new(&gpu, n_particles, s.projectile.nodes.len());
+        let mut uniforms = vec![step_uniform];
+
+        let sph = match s.particles {
+            Some((p, params)) => {
+                let particles = GpuParticles::upload(&gpu, p);
+                let sph_uniform = gpu.uniform("sph", &SphUniform::new(params, p.len()));
+                let support = crate::cpu::integrate::support(params);
+                let capacity = super::neighbours::capacity(&p.r, &p.z, support);
+                let (neighbours, grid) =
+                    NeighboursPass::new(&gpu, &particles, &sph_uniform, capacity)?;
+                let rates =
+                    super::sph_rates::SphRatesPass::new(&gpu, &particles, &grid, &sph_uniform)?;
+                let concrete =
+                    super::concrete::ConcretePass::new(&gpu, &particles, &sph_uniform, &clock)?;
+                let forces = super::sph_forces::SphForcesPass::new(
+                    &gpu,
+                    &particles,
+                    &grid,
+                    &sph_uniform,
+                    params.art_stress_eps > 0.0,
+                )?;
+                let contact = if s.contact {
+                    Some(ContactPass::new(
+                        &gpu,
+                        &uniforms[0],
+                        slaves,
+                        &s.projectile.masters,
+                        &particles,
+                        &nodes,
+                    )?)
+                } else {
+                    None
+                };
+                uniforms.push(sph_uniform);
+                Some(SphPasses {
+                    particles,
+                    neighbours,
+                    _grid: grid,
+                    rates,
+                    concrete,
+                    forces,
+                    contact,
+                })
+            }
+            None => None,
+        };
+        let fem = if s.deformable {
+            let fem_uniform = gpu.uniform(
+                "fem",
+                &FemUniform::new(s.fem, s.projectile.elements.len(), s.projectile.nodes.len()),
+            );
+            let pass = FemPass::new(
+                &gpu,
+                &nodes,
+                &elements,
+                &fem_uniform,
+                &clock,
+                &status,
+                &plastic_total,
+            )?;
+            uniforms.push(fem_uniform);
+            Some(pass)
+        } else {
+            None
+        };
+        let integrate = IntegratePass::new(
+            &gpu,
+            &uniforms[0],
+            &clock,
+            &status,
+            sph.as_ref().map(|p| &p.particles),
+            &nodes,
+            if s.deformable { Some(&elements) } else { None },
+            &acc,
+        )?;
+
+        let nn = s.projectile.nodes.len() as u64;
+        let status_at = 8u64;
+        let hits_at = status_at + 4 * STATUS_WORDS as u64;
+        let hit_data_at = hits_at + 4 * (1 + 2 * hit_capacity as u64);
+        let nodes_at = hit_data_at + 16 * hit_capacity as u64;
+        let layout = Layout {
+            status: status_at,
+            hits: hits_at,
+            hit_data: hit_data_at,
+            nodes: nodes_at,
+            size: nodes_at + 16 * nn,
+        };
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("step read-back"),
+            size: layout.size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        if let Some(e) = gpu.take_error() {
+            return Err(format!("GPU set-up failed: {e}"));
+        }
+        Ok(GpuStep {
+            gpu,
+            sph,
+            nodes,
+            elements,
+            fem,
+            integrate,
+            acc,
+            clock,
+            status,
+            plastic_total,
+            _uniforms: uniforms,
+            staging,
+            layout,
+            hit_capacity,
+            n_nodes: nn as usize,
+            pending_fixes: 0,
+            pending_forces: false,
+            profiler: None,
+        })
+    }
+
+    /// Time each pass with GPU timestamps from now on. False where the adapter has none.
+    pub fn enable_profiling(&mut self) -> bool {
+        if !self.gpu.timestamps {
+            return false;
+        }
+        let bytes = 8 * Profiler::SLOTS as u64;
+        self.profiler = Some(Profiler {
+            queries: self.gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: Profiler::SLOTS,
+            }),
+            resolve: self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            staging: self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps read-back"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        });
+        true
+    }
+
+    /// Seconds spent in each pass of `PROFILED` during the last `advance` (profiling on).
+    pub fn pass_seconds(&self) -> Result<Vec<f64>, String> {
+        let Some(p) = &self.profiler else {
+            return Ok(Vec::new());
+        };
+        let bytes = self
+            .gpu
+            .map_read(&p.staging, 8 * Profiler::SLOTS as usize)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let period = self.gpu.queue.get_timestamp_period() as f64 * 1e-9;
+        Ok(ticks
+            .windows(2)
+            .map(|w| w[1].saturating_sub(w[0]) as f64 * period)
+            .collect())
+    }
+
+    /// Mean seconds of a bare read-back (submit a copy of the clock, wait, map) over `n`.
+    pub fn readback_latency(&self, n: usize) -> Result<f64, String> {
+        let start = std::time::Instant::now();
+        for _ in 0..n {
+            let mut encoder = self
+                .gpu
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            encoder.copy_buffer_to_buffer(&self.clock, 0, &self.staging, 0, 8);
+            self.gpu.queue.submit([encoder.finish()]);
+            self.gpu.map_read(&self.staging, 8)?;
+        }
+        Ok(start.elapsed().as_secs_f64() / n.max(1) as f64)
+    }
+
+    /// Bytes of GPU buffers this step allocated.
+    pub fn gpu_bytes(&self) -> u64 {
+        self.gpu.allocated()
+    }
+
+    fn mark(&self, pass: &mut wgpu::ComputePass, slot: u32) {
+        if let Some(p) = &self.profiler {
+            p.mark(pass, slot);
+        }
+    }
+
+    /// The second half of a step: corrected slaves written back, rates, stresses, forces and
+    /// the next Δt.
+    fn record_forces(&self, pass: &mut wgpu::ComputePass) {
+        let sph = self.sph.as_ref();
+        if let Some(c) = sph.and_then(|s| s.contact.as_ref()) {
+            c.record_apply(pass, self.pending_fixes);
+        }
+        self.mark(pass, 1);
+        if let Some(sph) = sph {
+            sph.neighbours.record(pass);
+            self.mark(pass, 2);
+            sph.rates.record(pass);
+            self.mark(pass, 3);
+            sph.concrete.record(pass);
+            self.mark(pass, 4);
+            sph.forces.record(pass);
+            self.mark(pass, 5);
+        } else {
+            for slot in 2..=5 {
+                self.mark(pass, slot);
+            }
+        }
+        if let Some(fem) = &self.fem {
+            fem.record_stress(pass);
+            self.mark(pass, 6);
+            fem.record_forces(pass);
+            self.mark(pass, 7);
+        } else {
+            self.mark(pass, 6);
+            self.mark(pass, 7);
+        }
+        self.integrate.record_timestep(pass);
+        self.mark(pass, 8);
+    }
+
+    /// Finish the last step (its forces and the next Δt) so the GPU state is complete.
+    pub fn flush(&mut self) -> Result<(), String> {
+        if !self.pending_forces {
+            return Ok(());
+        }
+        super::run_once(&self.gpu, |pass| self.record_forces(pass))?;
+        self.pending_forces = false;
+        self.pending_fixes = 0;
+        Ok(())
+    }
+
+    /// Advance one step up to the contact correction and read back what the host needs.
+    pub fn advance(&mut self) -> Result<Readback, String> {
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("step"),
+            });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("step"),
+                timestamp_writes: None,
+            });
+            self.mark(&mut pass, 0);
+            if self.pending_forces {
+                self.record_forces(&mut pass);
+            } else {
+                for slot in 1..=8 {
+                    self.mark(&mut pass, slot);
+                }
+            }
+            self.integrate.record_integrate(&mut pass);
+            self.mark(&mut pass, 9);
+            if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
+                c.record_detect(&mut pass);
+            }
+            self.mark(&mut pass, 10);
+        }
+        if let Some(p) = &self.profiler {
+            encoder.resolve_query_set(&p.queries, 0..Profiler::SLOTS, &p.resolve, 0);
+            encoder.copy_buffer_to_buffer(&p.resolve, 0, &p.staging, 0, 8 * Profiler::SLOTS as u64);
+        }
+        let l = &self.layout;
+        encoder.copy_buffer_to_buffer(&self.clock, 0, &self.staging, 0, 8);
+        encoder.copy_buffer_to_buffer(
+            &self.status,
+            0,
+            &self.staging,
+            l.status,
+            4 * STATUS_WORDS as u64,
+        );
+        if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
+            let cap = self.hit_capacity as u64;
+            encoder.copy_buffer_to_buffer(&c.hits, 0, &self.staging, l.hits, 4 * (1 + 2 * cap));
+            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, l.hit_data, 16 * cap);
+        }
+        let nn = 4 * self.n_nodes as u64;
+        for (k, b) in [&self.nodes.r, &self.nodes.z, &self.nodes.vr, &self.nodes.vz]
+            .into_iter()
+            .enumerate()
+        {
+            encoder.copy_buffer_to_buffer(b, 0, &self.staging, l.nodes + k as u64 * nn, nn);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.pending_forces = true;
+        self.pending_fixes = 0;
+        let bytes = self.gpu.map_read(&self.staging, l.size as usize)?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
+        let floats: &[f32] = bytemuck::cast_slice(&bytes);
+        let at = |offset: u64| (offset / 4) as usize;
+        let mut status = [0u32; STATUS_WORDS];
+        status.copy_from_slice(&words[at(l.status)..at(l.status) + STATUS_WORDS]);
+        let n = self.n_nodes;
+        let node = |k: usize| floats[at(l.nodes) + k * n..at(l.nodes) + (k + 1) * n].to_vec();
+        let mut rb = Readback {
+            dt: f32::from_bits(words[0]),
+            status,
+            hits: Vec::new(),
+            hit_data: Vec::new(),
+            node_r: node(0),
+            node_z: node(1),
+            node_vr: node(2),
+            node_vz: node(3),
+        };
+        if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
+            let count = words[at(l.hits)] as usize;
+            let h = at(l.hits) + 1;
+            let d = at(l.hit_data);
+            if count <= self.hit_capacity {
+                rb.hits = (0..count)
+                    .map(|k| (words[h + 2 * k], words[h + 2 * k + 1]))
+                    .collect();
+                rb.hit_data = (0..count)
+                    .map(|k| {
+                        [
+                            floats[d + 4 * k],
+                            floats[d + 4 * k + 1],
+                            floats[d + 4 * k + 2],
+                            floats[d + 4 * k + 3],
+                        ]
+                    })
+                    .collect();
+            } else {
+                // More hits than the per-step read-back holds: read them all (rare).
+                let all: Vec<u32> = self.gpu.read(&c.hits, 1 + 2 * count)?;
+                rb.hits = (0..count)
+                    .map(|k| (all[1 + 2 * k], all[2 + 2 * k]))
+                    .collect();
+                rb.hit_data = self.gpu.read::<[f32; 4]>(&c.hit_data, count)?;
+            }
+        }
+        Ok(rb)
+    }
+
+    /// Write the host's corrections: slaves `(index, [r, z, vr, vz])` and every node velocity.
+    pub fn correct(&mut self, fixes: &[(u32, [f32; 4])], node_vr: &[f32], node_vz: &[f32]) {
+        if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
+            c.write_fixes(&self.gpu, fixes);
+            self.pending_fixes = fixes.len() as u32;
+        }
+        self.gpu.write(&self.nodes.vr, node_vr);
+        self.gpu.write(&self.nodes.vz, node_vz);
+    }
+
+    /// Finish the step and read the state back into the CPU structures, with the accumulated
+    /// boundary impulse, wall loss and plastic work (sums over entities, f64), and the next Δt.
+    /// `Sync::Full` reads every field; `Sync::History` only what a history row needs (the
+    /// particles' velocities and energies, the projectile), a tenth of the bytes.
+    pub fn download(
+        &mut self,
+        particles: &mut Particles,
+        projectile: &mut Projectile,
+        what: Sync,
+    ) -> Result<Totals, String> {
+        self.flush()?;
+        if let Some(s) = &self.sph {
+            let g = &self.gpu;
+            match what {
+                Sync::Full => s.particles.download(g, particles)?,
+                Sync::History => {
+                    let n = particles.len();
+                    particles.vr = g.read(&s.particles.vr, n)?;
+                    particles.vz = g.read(&s.particles.vz, n)?;
+                    particles.energy = g.read(&s.particles.energy, n)?;
+                }
+            }
+        }
+        self.nodes.download(&self.gpu, &mut projectile.nodes)?;
+        if self.fem.is_some() {
+            self.elements
+                .download(&self.gpu, &mut projectile.elements)?;
+        }
+        let sum = |v: Vec<f32>| v.iter().map(|&x| x as f64).sum::<f64>();
+        let n_p = particles.len();
+        let n_n = projectile.nodes.len();
+        let clock: Vec<u32> = self.gpu.read(&self.clock, 2)?;
+        Ok(Totals {
+            boundary_impulse: sum(self.gpu.read(&self.acc.particle_impulse, n_p)?)
+                + sum(self.gpu.read(&self.acc.node_impulse, n_n)?),
+            wall_lost: sum(self.gpu.read(&self.acc.node_lost, n_n)?),
+            plastic_work: sum(self
+                .gpu
+                .read(&self.plastic_total, projectile.elements.len())?),
+            next_dt: f32::from_bits(clock[0]),
+        })
+    }
+
+    /// Where a status word says the step went wrong, the message (entity, reason).
+    pub fn status_problem(
+        status: &[u32; STATUS_WORDS],
+    ) -> Option<(&'static str, u32, &'static str)> {
+        let checks = [
+            (STATUS_INVERTED_ELEMENT, "element", "inverted"),
+            (
+                STATUS_PARTICLE_NONFINITE,
+                "particle",
+                "non-finite position or velocity",
+            ),
+            (
+                STATUS_PARTICLE_ESCAPED,
+                "particle",
+                "escaped far beyond the scene",
+            ),
+            (
+                STATUS_NODE_NONFINITE,
+                "node",
+                "non-finite position or velocity",
+            ),
+            (STATUS_NODE_ESCAPED, "node", "escaped far beyond the scene"),
+        ];
+        checks
+            .into_iter()
+            .find(|(slot, _, _)| status[*slot] != STATUS_CLEAR)
+            .map(|(slot, what, reason)| (what, status[slot], reason))
+    }
+
+    /// The passes built, in step order.
+    pub fn has_sph(&self) -> bool {
+        self.sph.is_some()
+    }
+}
+
+/// How much of the state `GpuStep::download` reads back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sync {
+    Full,
+    History,
+}
+
+/// Sums the host takes from the GPU's per-entity accumulators.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Totals {
+    pub boundary_impulse: f64,
+    pub wall_lost: f64,
+    pub plastic_work: f64,
+    pub next_dt: f32,
+}
