@@ -32,6 +32,10 @@
 // Running sum of plastic_work over the steps (J), summed by the host at output time.
 @group(0) @binding(22) var<storage, read_write> plastic_total: array<f32>;
 
+// The material has a Johnson–Cook damage model (FemParams::damage): a pipeline constant, so a
+// material without one compiles without the damage update.
+override DAMAGE: bool;
+
 // std::f32::consts::PI after rounding to f32.
 const FEM_PI: f32 = 3.141592653589793;
 
@@ -162,7 +166,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             temp = temp + u.taylor_quinney * work_density / (rho * u.specific_heat);
             work = work_density * volume;
         }
-        if (u.has_damage != 0u) {
+        if (DAMAGE) {
             let seq_new = von_mises(s);
             // Mean stress of the start of the step, as on the CPU (the new p comes later).
             let mean = -p_old;

@@ -106,11 +106,12 @@ fn setup() {
 }
 
 // Grid-stride loops below: the cell arrays may need more threads than one dispatch dimension
-// has workgroups.
+// has workgroups. Only the cells in use are cleared: what the scan leaves beyond them is stale
+// but never read, and a prefix sum carries nothing backwards.
 @compute @workgroup_size(64)
 fn clear(@builtin(global_invocation_id) gid: vec3<u32>,
          @builtin(num_workgroups) groups: vec3<u32>) {
-    for (var c = gid.x; c <= grid.capacity; c += groups.x * WG) {
+    for (var c = gid.x; c <= grid.cells; c += groups.x * WG) {
         atomicStore(&cell_start[c], 0u);
     }
 }

@@ -50,7 +50,6 @@ struct FemUniform {
     eos_k2: f32,
     eos_k3: f32,
     eos_gamma: f32,
-    has_damage: u32,
     d1: f32,
     d2: f32,
     d3: f32,

@@ -5,6 +5,7 @@
 //! The source tree follows the step: scene (parse, validate) → mesh → materials (pure laws) →
 //! state (structure-of-arrays, f32) → passes (`cpu/<pass>.rs`) → contact correction → output.
 
+pub mod bench;
 pub mod contact;
 pub mod cpu;
 pub mod estimate;

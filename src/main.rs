@@ -41,6 +41,29 @@ enum Command {
         /// Do not write VTK frames.
         #[arg(long)]
         no_vtk: bool,
+        /// GPU adapter to use: part of its name as `penetrate adapters` lists it.
+        #[arg(long)]
+        adapter: Option<String>,
+    },
+    /// List the GPU adapters wgpu sees and whether each can run the solver.
+    Adapters,
+    /// Speed of the coupled step at several target sizes (particle-steps/s, ms per pass).
+    Bench {
+        /// Penetration scene to scale (its target spacing is set per size).
+        #[arg(long, default_value = "cases/forrestal1994-277.toml")]
+        case: PathBuf,
+        /// Target sizes in particles, comma-separated.
+        #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000, 1_000_000])]
+        sizes: Vec<usize>,
+        /// Which paths to time: cpu, gpu, or auto (both, the GPU where an adapter is found).
+        #[arg(long, value_enum, default_value = "auto")]
+        backend: BackendArg,
+        /// GPU adapter (part of its name).
+        #[arg(long)]
+        adapter: Option<String>,
+        /// Timed steps on the GPU (the CPU takes about 2e6 particle-steps per size).
+        #[arg(long, default_value_t = 100)]
+        steps: usize,
     },
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check {
@@ -62,6 +85,60 @@ enum BackendArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Bench {
+            case,
+            sizes,
+            backend,
+            adapter,
+            steps,
+        } => {
+            let backends = match backend {
+                BackendArg::Cpu => vec![Backend::Cpu],
+                BackendArg::Gpu => vec![Backend::Gpu],
+                BackendArg::Auto => match penetrate::gpu::Gpu::new(adapter.as_deref()) {
+                    Ok(_) => vec![Backend::Gpu, Backend::Cpu],
+                    Err(e) => {
+                        eprintln!("penetrate bench: no GPU ({e}); timing the CPU path only");
+                        vec![Backend::Cpu]
+                    }
+                },
+            };
+            match penetrate::bench::run(
+                &case,
+                &sizes,
+                &backends,
+                adapter.as_deref(),
+                steps.max(1),
+                |m| eprintln!("{m}"),
+            ) {
+                Ok(rows) => {
+                    print!("{}", penetrate::bench::table(&rows));
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(1, &format!("bench: {e}")),
+            }
+        }
+        Command::Adapters => {
+            let list = penetrate::gpu::adapters();
+            if list.is_empty() {
+                return fail(
+                    1,
+                    "no GPU adapter found (on Debian, `apt-get install mesa-vulkan-drivers` gives the software adapter lavapipe)",
+                );
+            }
+            for a in list {
+                println!(
+                    "{} | {} | {} | {} | {}",
+                    a.name,
+                    a.backend,
+                    a.device_type,
+                    a.driver,
+                    a.unusable
+                        .map_or("usable".to_string(), |why| format!("not usable: {why}"))
+                );
+            }
+            ExitCode::SUCCESS
+        }
         Command::Check { case, set } => match scene::load(&case, &set) {
             Ok(s) => match check_report(&s) {
                 Ok(report) => {
@@ -79,6 +156,7 @@ fn main() -> ExitCode {
             set,
             quiet,
             no_vtk,
+            adapter,
         } => {
             let scene = match scene::load(&case, &set) {
                 Ok(s) => s,
@@ -90,30 +168,30 @@ fn main() -> ExitCode {
                 Some(BackendArg::Auto) => Backend::Auto,
                 None => scene.run.backend,
             };
-            match backend {
-                Backend::Cpu => {}
-                Backend::Gpu => {
-                    return fail(2, "--backend gpu: the GPU backend is not built yet (it is the next milestone); run with --backend cpu")
-                }
-                Backend::Auto => eprintln!("penetrate: --backend auto: no GPU backend is built yet; running on the CPU"),
-            }
             let out = out.unwrap_or_else(|| PathBuf::from("runs").join(&scene.name));
             let opts = RunOptions {
                 out: out.clone(),
                 quiet,
                 vtk: !no_vtk,
+                backend: Some(backend),
+                adapter,
             };
             match solver::run(&scene, &opts) {
                 Ok(outcome) => {
                     let s = &outcome.summary;
                     println!(
-                        "{}: {} ({}) after {} steps, t = {:.1} µs, {:.1} s wall",
+                        "{}: {} ({}) after {} steps, t = {:.1} µs, {:.1} s wall on {}",
                         s.scene,
                         s.status,
                         s.stop_reason,
                         s.steps,
                         s.time_s * 1e6,
-                        s.wall_s
+                        s.wall_s,
+                        if s.backend == "gpu" {
+                            &s.adapter
+                        } else {
+                            "the CPU"
+                        }
                     );
                     if scene.target.is_some() {
                         println!(

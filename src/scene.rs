@@ -10,7 +10,7 @@
 //!
 //! - `name` (default: the file stem)
 //! - `[run]` `end_time`*, `cfl` (0.5), `output_interval` (0: first and last frame),
-//!   `history_interval` (end_time/500), `backend` ("cpu"), `max_steps` (5e6), `stop_at_rest`
+//!   `history_interval` (end_time/500), `backend` ("auto"), `max_steps` (5e6), `stop_at_rest`
 //!   (true)
 //! - `[projectile]` `shape`* ("ogive" | "cylinder"), `diameter`*, `length`*, `crh` (ogive only,
 //!   required there), `element_size`*, `velocity`*, `nose_z` (0.25·target.spacing, or
@@ -1173,8 +1173,10 @@ fn resolve_run(c: &Check, r: &RawRun) -> Result<RunControl, SceneError> {
         r.history_interval.unwrap_or(end_time / 500.0),
         "s",
     )?;
+    // A real GPU where there is one, the CPU reference path otherwise (never a software adapter
+    // unasked: lavapipe is for tests).
     let backend = match r.backend.as_deref() {
-        None => Backend::Cpu,
+        None => Backend::Auto,
         Some(b) => match c.choice("run.backend", b, &["cpu", "gpu", "auto"])? {
             "gpu" => Backend::Gpu,
             "auto" => Backend::Auto,
@@ -1864,7 +1866,7 @@ mod tests {
         assert_eq!(t.concrete, Hjc::from_fc(35.0e6, 2370.0));
         assert_eq!(s.projectile.nose_z, 0.25 * t.spacing);
         assert_eq!(s.run.history_interval, 2e-5 / 500.0);
-        assert_eq!(s.run.backend, Backend::Cpu);
+        assert_eq!(s.run.backend, Backend::Auto);
         assert_eq!(s.contact.lambda, 0.2);
         assert_eq!(s.contact.slave_radius_factor, 1.5);
         let steel = &s.projectile.material;
@@ -1900,10 +1902,10 @@ mod tests {
         assert_eq!(smoke(&["target.concrete.p_lock = 1e9"]).unwrap(), expected);
 
         let mut expected = base.clone();
-        expected.run.backend = Backend::Auto;
+        expected.run.backend = Backend::Cpu;
         expected.name = "renamed".into();
         assert_eq!(
-            smoke(&["run.backend=auto", "name=\"renamed\""]).unwrap(),
+            smoke(&["run.backend=cpu", "name=\"renamed\""]).unwrap(),
             expected
         );
     }

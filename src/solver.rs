@@ -6,12 +6,13 @@ use std::time::Instant;
 
 use crate::contact::{self, ContactBodies, Hit};
 use crate::cpu::{self, neighbours::CellGrid};
+use crate::gpu::step::{GpuStep, StepSetup, Sync};
 use crate::mesh;
 use crate::output::history::{History, Row};
 use crate::output::progress::Progress;
 use crate::output::summary::{EnergySummary, Summary};
 use crate::output::vtk;
-use crate::scene::Scene;
+use crate::scene::{Backend, Scene};
 use crate::state::{FemParams, Particles, Projectile, SphParams};
 
 /// One pass of the step. A scene's pass list holds only what it needs (architecture.md).
@@ -100,6 +101,13 @@ pub struct Simulation {
     pub last_hits: usize,
     wall_z: Option<f32>,
     escape: f32,
+    /// The GPU step when the run is on the GPU; the CPU state is then refreshed by `sync`.
+    gpu: Option<Box<GpuStep>>,
+    /// The account when the GPU took over (its accumulators add to it).
+    gpu_base: Account,
+    /// "cpu" or "gpu", and the adapter's name.
+    pub backend: &'static str,
+    pub adapter: String,
 }
 
 impl Simulation {
@@ -169,6 +177,10 @@ impl Simulation {
             last_hits: 0,
             wall_z: scene.wall.as_ref().map(|w| w.z as f32),
             escape: (20.0 * extent) as f32,
+            gpu: None,
+            gpu_base: Account::default(),
+            backend: "cpu",
+            adapter: "none (CPU reference path)".into(),
         };
         sim.account.initial_kinetic = sim.kinetic_energy();
         sim.account.initial_momentum = sim.momentum_z();
@@ -176,6 +188,164 @@ impl Simulation {
         sim.forces(0.0)?;
         sim.dt = sim.stable_dt()?;
         Ok(sim)
+    }
+
+    /// Move the step onto a GPU adapter (`name`: part of its name, or the best one). The
+    /// state built by `new` is uploaded; from here on `step` runs there.
+    pub fn use_gpu(&mut self, gpu: crate::gpu::Gpu) -> Result<(), RunError> {
+        let adapter = gpu.adapter_name();
+        let setup = StepSetup {
+            particles: self.sph.as_ref().map(|sp| (&self.particles, sp)),
+            projectile: &self.projectile,
+            fem: &self.fem,
+            deformable: self.has(Pass::FemStress),
+            slaves: &self.slaves,
+            contact: self.has(Pass::ContactDetect),
+            wall_z: self.wall_z,
+            escape: self.escape,
+            cfl: self.scene.run.cfl as f32,
+            dt: self.dt,
+        };
+        let step = GpuStep::new(gpu, &setup).map_err(RunError::Setup)?;
+        self.gpu = Some(Box::new(step));
+        self.gpu_base = self.account;
+        self.backend = "gpu";
+        self.adapter = adapter;
+        Ok(())
+    }
+
+    /// The GPU step, when the run is on the GPU (bench: profiling and memory).
+    pub fn gpu_step(&mut self) -> Option<&mut GpuStep> {
+        self.gpu.as_deref_mut()
+    }
+
+    /// Bring the CPU copy of the state up to date (GPU runs; nothing to do on the CPU).
+    pub fn sync(&mut self) -> Result<(), RunError> {
+        self.sync_part(Sync::Full)
+    }
+
+    /// Bring up to date what `history_row` reads (GPU runs): the rest may be stale.
+    pub fn sync_history(&mut self) -> Result<(), RunError> {
+        self.sync_part(Sync::History)
+    }
+
+    fn sync_part(&mut self, what: Sync) -> Result<(), RunError> {
+        let Some(g) = self.gpu.as_mut() else {
+            return Ok(());
+        };
+        let t = g
+            .download(&mut self.particles, &mut self.projectile, what)
+            .map_err(|e| RunError::Unstable(format!("GPU: {e}")))?;
+        let base = self.gpu_base;
+        self.account.boundary_impulse = base.boundary_impulse + t.boundary_impulse;
+        self.account.wall_dissipated = base.wall_dissipated + t.wall_lost;
+        self.account.plastic_work = base.plastic_work + t.plastic_work;
+        self.dt = t.next_dt;
+        Ok(())
+    }
+
+    /// One step on the GPU: up to contact detection there, the correction here, and the rest
+    /// there in the next submission (gpu::step).
+    fn step_gpu(&mut self, g: &mut GpuStep) -> Result<(), RunError> {
+        let gpu_err = |e: String| RunError::Unstable(format!("GPU: {e}"));
+        let rb = g.advance().map_err(gpu_err)?;
+        let dt = rb.dt;
+        if !(dt.is_finite() && dt > 1.0e-13) {
+            return Err(RunError::Unstable(format!(
+                "time step collapsed to {dt:e} s at step {}, t {:.4e} s",
+                self.step, self.time
+            )));
+        }
+        {
+            let n = &mut self.projectile.nodes;
+            n.r = rb.node_r;
+            n.z = rb.node_z;
+            n.vr = rb.node_vr;
+            n.vz = rb.node_vz;
+        }
+        if let Some((what, index, reason)) = GpuStep::status_problem(&rb.status) {
+            let (r, z) = self.locate(g, what, index as usize);
+            return Err(RunError::Unstable(format!(
+                "{what} {index} {reason} at (r {r:.4e}, z {z:.4e}) m, step {}, t {:.4e} s",
+                self.step, self.time
+            )));
+        }
+        if self.has(Pass::ContactDetect) {
+            self.last_hits = rb.hits.len();
+            if !rb.hits.is_empty() {
+                let mut order: Vec<usize> = (0..rb.hits.len()).collect();
+                order.sort_by_key(|&k| rb.hits[k].0);
+                let slave = |k: usize| rb.hits[order[k]].0;
+                let data = |k: usize| rb.hit_data[order[k]];
+                let m = order.len();
+                let mut sr: Vec<f32> = (0..m).map(|k| data(k)[0]).collect();
+                let mut sz: Vec<f32> = (0..m).map(|k| data(k)[1]).collect();
+                let mut svr: Vec<f32> = (0..m).map(|k| data(k)[2]).collect();
+                let mut svz: Vec<f32> = (0..m).map(|k| data(k)[3]).collect();
+                let sm: Vec<f32> = (0..m)
+                    .map(|k| self.particles.mass[slave(k) as usize])
+                    .collect();
+                let hits: Vec<Hit> = (0..m)
+                    .map(|k| Hit {
+                        slave: k as u32,
+                        master: rb.hits[order[k]].1,
+                    })
+                    .collect();
+                let n = &mut self.projectile.nodes;
+                let mut bodies = ContactBodies {
+                    slave_r: &mut sr,
+                    slave_z: &mut sz,
+                    slave_vr: &mut svr,
+                    slave_vz: &mut svz,
+                    slave_mass: &sm,
+                    node_r: &n.r,
+                    node_z: &n.z,
+                    node_vr: &mut n.vr,
+                    node_vz: &mut n.vz,
+                    node_mass: &n.mass,
+                    node_on_axis: &n.on_axis,
+                };
+                let stats = contact::correct(
+                    &hits,
+                    &self.projectile.masters,
+                    &mut bodies,
+                    self.scene.contact.lambda as f32,
+                    self.projectile.total_mass,
+                );
+                self.account.contact_dissipated += stats.dissipated;
+                self.account.max_penetration =
+                    self.account.max_penetration.max(stats.max_penetration);
+                let fixes: Vec<(u32, [f32; 4])> = (0..m)
+                    .map(|k| (slave(k), [sr[k], sz[k], svr[k], svz[k]]))
+                    .collect();
+                g.correct(&fixes, &n.vr, &n.vz);
+            }
+        }
+        self.time += dt as f64;
+        self.step += 1;
+        self.dt = dt;
+        self.account.min_dt = self.account.min_dt.min(dt as f64);
+        self.account.max_dt = self.account.max_dt.max(dt as f64);
+        Ok(())
+    }
+
+    /// Position of an entity the GPU flagged (the state is read back for it).
+    fn locate(&mut self, g: &mut GpuStep, what: &str, index: usize) -> (f32, f32) {
+        if g.download(&mut self.particles, &mut self.projectile, Sync::Full)
+            .is_err()
+        {
+            return (f32::NAN, f32::NAN);
+        }
+        let n = &self.projectile.nodes;
+        match what {
+            "particle" => (self.particles.r[index], self.particles.z[index]),
+            "node" => (n.r[index], n.z[index]),
+            _ => {
+                let el = self.projectile.elements.nodes[index];
+                let c = |v: &[f32]| el.iter().map(|&k| v[k as usize]).sum::<f32>() / 3.0;
+                (c(&n.r), c(&n.z))
+            }
+        }
     }
 
     fn has(&self, pass: Pass) -> bool {
@@ -236,6 +406,11 @@ impl Simulation {
     /// One explicit step: velocities and positions, contact, then rates, stresses and forces at
     /// the new configuration, then the next Δt.
     pub fn step(&mut self) -> Result<(), RunError> {
+        if let Some(mut g) = self.gpu.take() {
+            let result = self.step_gpu(&mut g);
+            self.gpu = Some(g);
+            return result;
+        }
         let dt = self.dt;
         let blowup = |b: cpu::integrate::Blowup, step: u64, time: f64| {
             RunError::Unstable(format!(
@@ -536,8 +711,8 @@ impl Simulation {
             scene: self.scene.name.clone(),
             status: status.to_string(),
             stop_reason: stop_reason.to_string(),
-            backend: "cpu".into(),
-            adapter: "none (CPU reference path)".into(),
+            backend: self.backend.into(),
+            adapter: self.adapter.clone(),
             depth_m: self.depth(),
             projectile_velocity_m_s: self.projectile_velocity(),
             max_damage: self.max_damage(),
@@ -562,7 +737,7 @@ impl Simulation {
                 contact_dissipated: a.contact_dissipated,
                 wall_dissipated: a.wall_dissipated,
             },
-            passes: self.pass_names("cpu"),
+            passes: self.pass_names(self.backend),
             min_dt_s: if a.min_dt == f64::MAX { 0.0 } else { a.min_dt },
             max_dt_s: a.max_dt,
             max_slave_penetration_m: a.max_penetration as f64,
@@ -577,6 +752,49 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Write VTK frames (tests turn them off).
     pub vtk: bool,
+    /// Overrides the scene's `run.backend`.
+    pub backend: Option<Backend>,
+    /// Part of the GPU adapter's name (`--adapter`).
+    pub adapter: Option<String>,
+}
+
+impl RunOptions {
+    /// CPU or scene backend, progress shown, VTK frames on.
+    pub fn new(out: PathBuf) -> RunOptions {
+        RunOptions {
+            out,
+            quiet: false,
+            vtk: true,
+            backend: None,
+            adapter: None,
+        }
+    }
+}
+
+/// Build the model on the backend asked for: `gpu` fails without a usable adapter; `auto` takes
+/// a real GPU if there is one and the CPU otherwise.
+pub fn build(
+    scene: &Scene,
+    backend: Backend,
+    adapter: Option<&str>,
+) -> Result<Simulation, RunError> {
+    let mut sim = Simulation::new(scene)?;
+    match backend {
+        Backend::Cpu => {}
+        Backend::Gpu => {
+            let gpu = crate::gpu::Gpu::new(adapter)
+                .map_err(|e| RunError::Setup(format!("--backend gpu: {e}")))?;
+            sim.use_gpu(gpu)?;
+        }
+        Backend::Auto => {
+            if let Ok(gpu) = crate::gpu::Gpu::new(adapter) {
+                if crate::gpu::is_hardware(&gpu.info) || adapter.is_some() {
+                    sim.use_gpu(gpu)?;
+                }
+            }
+        }
+    }
+    Ok(sim)
 }
 
 /// The result of a run: its summary, and whether it ended normally.
@@ -591,7 +809,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
     std::fs::create_dir_all(&opts.out).map_err(io)?;
     let started = Instant::now();
-    let mut sim = Simulation::new(scene)?;
+    let backend = opts.backend.unwrap_or(scene.run.backend);
+    let mut sim = build(scene, backend, opts.adapter.as_deref())?;
     let mut history = History::create(&opts.out.join("history.csv")).map_err(io)?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
@@ -624,18 +843,35 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         if let Err(e) = sim.step() {
             break (e.to_string(), String::new(), false);
         }
+        let frame_due = opts.vtk && sim.time >= next_frame;
+        let synced = if frame_due {
+            sim.sync()
+        } else if sim.time >= next_history {
+            sim.sync_history()
+        } else {
+            Ok(())
+        };
+        if let Err(e) = synced {
+            break (e.to_string(), String::new(), false);
+        }
         if sim.time >= next_history {
             history.write(&sim.history_row()).map_err(io)?;
             next_history += scene.run.history_interval;
             progress.update(sim.time, sim.step, sim.depth(), sim.projectile_velocity());
         }
-        if opts.vtk && sim.time >= next_frame {
+        if frame_due {
             sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
             frame += 1;
             next_frame += scene.run.output_interval;
         }
     };
     progress.finish();
+    let (status, reason, ok) = match sim.sync() {
+        Ok(()) => (status, reason, ok),
+        Err(e) if ok => (e.to_string(), String::new(), false),
+        // Keep what stopped the run first.
+        Err(e) => (format!("{status}; then {e}"), reason, false),
+    };
     history.write(&sim.history_row()).map_err(io)?;
     history.flush().map_err(io)?;
     if opts.vtk {

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use penetrate::scene;
+use penetrate::scene::{self, Backend};
 use penetrate::solver::{self, RunOptions, Simulation};
 
 fn case(name: &str) -> PathBuf {
@@ -29,6 +29,8 @@ fn smoke_case_runs_with_finite_fields() {
             out: out.clone(),
             quiet: true,
             vtk: true,
+            backend: Some(Backend::Cpu),
+            adapter: None,
         },
     )
     .unwrap();

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use penetrate::scene;
+use penetrate::scene::{self, Backend};
 use penetrate::solver::{self, RunOptions};
 
 /// Measured final length of the 4340 bar at 208 m/s (taylor.csv), mm.
@@ -22,6 +22,8 @@ fn taylor_4340_final_length_matches_the_measurement() {
             out: out.clone(),
             quiet: true,
             vtk: false,
+            backend: Some(Backend::Cpu),
+            adapter: None,
         },
     )
     .unwrap();

@@ -4,8 +4,10 @@
 //! and `cpu::fem_forces::run`.
 
 use super::integrate::step_source;
+use super::params::FemUniform;
 use super::state::{GpuElements, GpuNodes};
 use super::{Gpu, Kernel, Slot};
+use crate::state::FemParams;
 
 /// The WGSL of the stress pass: the step's shared blocks (FemUniform, Clock, status words), the
 /// deviatoric helpers, the Johnson–Cook law and the steel EOS, then `pass`.
@@ -69,6 +71,8 @@ pub struct FemPass {
     forces_bind: wgpu::BindGroup,
     n_elements: u32,
     n_nodes: u32,
+    // The FemUniform, kept alive for the bind groups.
+    _uniform: wgpu::Buffer,
 }
 
 impl FemPass {
@@ -78,16 +82,20 @@ impl FemPass {
         gpu: &Gpu,
         nodes: &GpuNodes,
         elements: &GpuElements,
-        fem_uniform: &wgpu::Buffer,
+        material: &FemParams,
         clock: &wgpu::Buffer,
         status: &wgpu::Buffer,
         plastic_total: &wgpu::Buffer,
     ) -> Result<FemPass, String> {
-        let stress = gpu.kernel(
+        let uniform = gpu.uniform("fem", &FemUniform::new(material, elements.len, nodes.len));
+        let fem_uniform = &uniform;
+        let damage = [("DAMAGE", f64::from(u8::from(material.damage.is_some())))];
+        let stress = gpu.kernel_with(
             "fem_stress",
             &fem_source(include_str!("../../shaders/fem_stress.wgsl")),
             "main",
             &STRESS_SLOTS,
+            &damage,
         )?;
         let forces = gpu.kernel(
             "fem_forces",
@@ -142,6 +150,7 @@ impl FemPass {
             forces_bind,
             n_elements: e.len as u32,
             n_nodes: n.len as u32,
+            _uniform: uniform,
         })
     }
 
@@ -435,11 +444,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     ) -> GpuResult {
         let gn = GpuNodes::upload(gpu, nodes);
         let ge = GpuElements::upload(gpu, elements);
-        let uniform = gpu.uniform("fem", &FemUniform::new(params, ge.len, gn.len));
         let clock = gpu.buffer("clock", &[dt.to_bits(), 0u32]);
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let plastic_total = gpu.buffer("plastic total", plastic_start);
-        let pass = FemPass::new(gpu, &gn, &ge, &uniform, &clock, &status, &plastic_total).unwrap();
+        let pass = FemPass::new(gpu, &gn, &ge, params, &clock, &status, &plastic_total).unwrap();
         run_once(gpu, |p| {
             if stress {
                 pass.record_stress(p);

@@ -29,9 +29,9 @@ pub const WORKGROUP: u32 = 64;
 /// Items each thread of a reduction folds (`Kernel::dispatch_fold`).
 pub const FOLD: u32 = 32;
 
-/// Storage buffers the widest pass binds at once (sph_forces); the adapter must allow this many
-/// per shader stage.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 28;
+/// Storage buffers the widest passes bind at once (sph_forces and fem_stress: 22 each); the
+/// adapter must allow this many per shader stage.
+pub const STORAGE_BUFFERS_NEEDED: u32 = 22;
 
 /// An adapter as `penetrate adapters` lists it.
 #[derive(Clone, Debug)]
@@ -244,8 +244,8 @@ impl Gpu {
             .min(self.limits.max_buffer_size);
         if bytes > max {
             return Err(format!(
-                "scene too big for adapter {}: {what} needs {bytes} bytes in one buffer, \
-                 max_storage_buffer_binding_size is {max}",
+                "scene too big for adapter {}: {what} take {bytes} bytes in one buffer, above \
+                 its max_storage_buffer_binding_size of {max} (fewer particles, or a larger GPU)",
                 self.info.name
             ));
         }
@@ -400,6 +400,14 @@ impl Gpu {
         slots: &[Slot],
         constants: &[(&str, f64)],
     ) -> Result<Kernel, String> {
+        let storage = slots.iter().filter(|s| **s != Slot::Uniform).count() as u32;
+        if storage > self.limits.max_storage_buffers_per_shader_stage {
+            return Err(format!(
+                "adapter {} cannot run {name}: it binds {storage} storage buffers, above the \
+                 adapter's max_storage_buffers_per_shader_stage of {}",
+                self.info.name, self.limits.max_storage_buffers_per_shader_stage
+            ));
+        }
         let module = self
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {

@@ -111,8 +111,8 @@ pub struct FemUniform {
     pub eos_k2: f32,
     pub eos_k3: f32,
     pub eos_gamma: f32,
-    /// 1 when the Johnson–Cook damage model is on (then d1..eps_f_min are meaningful).
-    pub has_damage: u32,
+    /// Johnson–Cook damage constants; zero for a material without damage (fem_stress then
+    /// compiles without the update: its DAMAGE pipeline constant).
     pub d1: f32,
     pub d2: f32,
     pub d3: f32,
@@ -148,7 +148,6 @@ impl FemUniform {
             eos_k2: p.eos.k2,
             eos_k3: p.eos.k3,
             eos_gamma: p.eos.gamma,
-            has_damage: u32::from(d.is_some()),
             d1: d.map_or(0.0, |d| d.d1),
             d2: d.map_or(0.0, |d| d.d2),
             d3: d.map_or(0.0, |d| d.d3),

@@ -22,7 +22,7 @@ use super::integrate::{
     STATUS_WORDS,
 };
 use super::neighbours::{GpuGrid, NeighboursPass};
-use super::params::{FemUniform, SphUniform};
+use super::params::SphUniform;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::Gpu;
 use crate::state::{FemParams, Particles, Projectile, SphParams};
@@ -135,18 +135,22 @@ pub struct StepSetup<'a> {
 
 impl GpuStep {
     pub fn new(gpu: Gpu, s: &StepSetup) -> Result<GpuStep, String> {
-        let nodes = GpuNodes::upload(&gpu, &s.projectile.nodes);
-        let elements = GpuElements::upload(&gpu, &s.projectile.elements);
+        // Refuse what the adapter cannot hold before allocating anything.
         let n_particles = s.particles.map_or(0, |(p, _)| p.len());
+        let n_elements = s.projectile.elements.len();
         gpu.check_binding_size("the particles' stress arrays", (n_particles * 12) as u64)?;
-        let largest = n_particles.max(s.projectile.elements.len()) as u64;
+        gpu.check_binding_size("the elements' nodal forces", (n_elements * 24) as u64)?;
+        let largest = n_particles.max(n_elements) as u64;
         let groups = largest.div_ceil(super::WORKGROUP as u64);
         if groups > gpu.limits.max_compute_workgroups_per_dimension as u64 {
             return Err(format!(
-                "scene too big for adapter {}: {largest} particles need {groups} workgroups in one                  dispatch, max_compute_workgroups_per_dimension is {}",
+                "scene too big for adapter {}: {largest} particles or elements need {groups} \
+                 workgroups in one dispatch, above its max_compute_workgroups_per_dimension of {}",
                 gpu.info.name, gpu.limits.max_compute_workgroups_per_dimension
             ));
         }
+        let nodes = GpuNodes::upload(&gpu, &s.projectile.nodes);
+        let elements = GpuElements::upload(&gpu, &s.projectile.elements);
         let (h, alpha, beta) = s
             .particles
             .map_or((0.0, 0.0, 0.0), |(_, sp)| (sp.h, sp.alpha, sp.beta));
@@ -221,21 +225,15 @@ impl GpuStep {
             None => None,
         };
         let fem = if s.deformable {
-            let fem_uniform = gpu.uniform(
-                "fem",
-                &FemUniform::new(s.fem, s.projectile.elements.len(), s.projectile.nodes.len()),
-            );
-            let pass = FemPass::new(
+            Some(FemPass::new(
                 &gpu,
                 &nodes,
                 &elements,
-                &fem_uniform,
+                s.fem,
                 &clock,
                 &status,
                 &plastic_total,
-            )?;
-            uniforms.push(fem_uniform);
-            Some(pass)
+            )?)
         } else {
             None
         };

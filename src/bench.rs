@@ -1,0 +1,190 @@
+//! `penetrate bench`: the coupled step's speed at several target sizes, on the GPU and on the
+//! CPU reference path. The scene is a shipped penetration case with its particle spacing set so
+//! the target holds about the asked number of particles; the projectile starts at the surface,
+//! so contact is live within the first steps. A benchmark, not a test: it reports numbers.
+
+use std::path::Path;
+use std::time::Instant;
+
+use crate::gpu::step::PROFILED;
+use crate::scene::{self, Backend};
+use crate::solver::{self, Simulation};
+
+/// One row of the table.
+#[derive(Clone, Debug)]
+pub struct BenchRow {
+    pub backend: String,
+    pub particles: usize,
+    pub elements: usize,
+    pub steps: usize,
+    pub ms_per_step: f64,
+    pub particle_steps_per_s: f64,
+    /// (pass, ms per step) from GPU timestamps; empty without them.
+    pub pass_ms: Vec<(&'static str, f64)>,
+    /// A bare submit + copy + map of the step's clock, µs (GPU only).
+    pub readback_us: Option<f64>,
+    /// GPU buffer bytes per particle (GPU only).
+    pub bytes_per_particle: Option<f64>,
+    /// Why this size did not run on this backend (a limit of the adapter, say).
+    pub refused: Option<String>,
+}
+
+/// Run the benchmark of `case` at each size on each backend. `steps` is the GPU's timed step
+/// count; the CPU takes fewer at large sizes (about 2·10⁶ particle-steps per size).
+pub fn run(
+    case: &Path,
+    sizes: &[usize],
+    backends: &[Backend],
+    adapter: Option<&str>,
+    steps: usize,
+    mut log: impl FnMut(&str),
+) -> Result<Vec<BenchRow>, String> {
+    let base = scene::load(case, &[]).map_err(|e| e.to_string())?;
+    let target = base
+        .target
+        .as_ref()
+        .ok_or_else(|| format!("{}: bench needs a scene with a target", case.display()))?;
+    let mut rows = Vec::new();
+    for &n in sizes {
+        if n < 100 {
+            return Err(format!("bench size {n}: at least 100 particles"));
+        }
+        let spacing = (target.radius * target.thickness / n as f64).sqrt();
+        let set = vec![format!("target.spacing={spacing:e}")];
+        let scene = scene::load(case, &set).map_err(|e| e.to_string())?;
+        for &backend in backends {
+            let name = match backend {
+                Backend::Cpu => "cpu",
+                _ => "gpu",
+            };
+            log(&format!("bench: {n} particles on the {name}: building"));
+            let mut sim = match solver::build(&scene, backend, adapter) {
+                Ok(sim) => sim,
+                Err(e) => {
+                    log(&format!("bench: {n} particles on the {name}: {e}"));
+                    rows.push(BenchRow {
+                        backend: name.into(),
+                        particles: n,
+                        elements: 0,
+                        steps: 0,
+                        ms_per_step: 0.0,
+                        particle_steps_per_s: 0.0,
+                        pass_ms: Vec::new(),
+                        readback_us: None,
+                        bytes_per_particle: None,
+                        refused: Some(e.to_string()),
+                    });
+                    continue;
+                }
+            };
+            let timed = match backend {
+                Backend::Cpu => (2_000_000 / sim.particles.len().max(1)).clamp(3, steps),
+                _ => steps,
+            };
+            for _ in 0..5 {
+                sim.step().map_err(|e| e.to_string())?;
+            }
+            log(&format!(
+                "bench: {n} particles on the {name}: {timed} steps"
+            ));
+            let start = Instant::now();
+            for _ in 0..timed {
+                sim.step().map_err(|e| e.to_string())?;
+            }
+            let wall = start.elapsed().as_secs_f64();
+            let particles = sim.particles.len();
+            let mut row = BenchRow {
+                backend: if sim.backend == "gpu" {
+                    format!("gpu: {}", sim.adapter)
+                } else {
+                    "cpu".into()
+                },
+                particles,
+                elements: sim.projectile.elements.len(),
+                steps: timed,
+                ms_per_step: 1e3 * wall / timed as f64,
+                particle_steps_per_s: particles as f64 * timed as f64 / wall,
+                pass_ms: Vec::new(),
+                readback_us: None,
+                bytes_per_particle: None,
+                refused: None,
+            };
+            if let Some(g) = sim.gpu_step() {
+                row.bytes_per_particle = Some(g.gpu_bytes() as f64 / particles.max(1) as f64);
+                row.readback_us = Some(g.readback_latency(50)? * 1e6);
+            }
+            row.pass_ms = profile(&mut sim, 10)?;
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// Mean GPU time per pass over `steps` profiled steps (ms), where the adapter has timestamps.
+fn profile(sim: &mut Simulation, steps: usize) -> Result<Vec<(&'static str, f64)>, String> {
+    let on = sim.gpu_step().is_some_and(|g| g.enable_profiling());
+    if !on {
+        return Ok(Vec::new());
+    }
+    let mut sums = vec![0.0; PROFILED.len()];
+    for _ in 0..steps {
+        sim.step().map_err(|e| e.to_string())?;
+        let Some(g) = sim.gpu_step() else { break };
+        for (s, t) in sums.iter_mut().zip(g.pass_seconds()?) {
+            *s += t;
+        }
+    }
+    Ok(PROFILED
+        .iter()
+        .zip(sums)
+        .map(|(name, s)| (*name, 1e3 * s / steps as f64))
+        .collect())
+}
+
+/// The table as Markdown.
+pub fn table(rows: &[BenchRow]) -> String {
+    let mut out = String::from(
+        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        if let Some(why) = &r.refused {
+            out += &format!(
+                "| {} | ~{} | – | – | – | not run: {} | – | – |\n",
+                r.backend,
+                r.particles,
+                why.replace('|', "/")
+            );
+            continue;
+        }
+        out += &format!(
+            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} |\n",
+            r.backend,
+            r.particles,
+            r.elements,
+            r.steps,
+            r.ms_per_step,
+            r.particle_steps_per_s,
+            r.readback_us.map_or("–".into(), |v| format!("{v:.0}")),
+            r.bytes_per_particle
+                .map_or("–".into(), |v| format!("{v:.0}")),
+        );
+    }
+    let profiled: Vec<&BenchRow> = rows.iter().filter(|r| !r.pass_ms.is_empty()).collect();
+    if !profiled.is_empty() {
+        out += "\nGPU time per pass (ms per step, timestamp queries):\n\n| particles |";
+        for p in PROFILED {
+            out += &format!(" {p} |");
+        }
+        out += "\n|---|";
+        out += &"---|".repeat(PROFILED.len());
+        out += "\n";
+        for r in profiled {
+            out += &format!("| {} |", r.particles);
+            for (_, ms) in &r.pass_ms {
+                out += &format!(" {ms:.3} |");
+            }
+            out += "\n";
+        }
+    }
+    out
+}

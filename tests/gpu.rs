@@ -1,0 +1,248 @@
+//! The whole step on the GPU against the CPU reference path (on lavapipe in CI). Without an
+//! adapter these tests fail and say how to install one.
+
+use std::path::{Path, PathBuf};
+
+use penetrate::scene::{self, Backend, Scene};
+use penetrate::solver::{self, RunOptions, Simulation};
+
+fn case(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(name)
+}
+
+fn smoke(set: &[&str]) -> Scene {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    scene::load(&case("smoke.toml"), &set).unwrap()
+}
+
+fn on_gpu(scene: &Scene) -> Simulation {
+    let adapter = std::env::var("PENETRATE_ADAPTER").ok();
+    match solver::build(scene, Backend::Gpu, adapter.as_deref()) {
+        Ok(sim) => sim,
+        Err(e) => panic!(
+            "GPU test needs an adapter: {e}. Install Mesa's software Vulkan adapter \
+             (Debian: apt-get install mesa-vulkan-drivers) or run `bash scripts/test`, which does."
+        ),
+    }
+}
+
+/// Largest |a − b| over the field.
+fn max_difference(a: &[f32], b: &[f32]) -> f32 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .fold(0.0f32, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Largest |b| over the field.
+fn scale(b: &[f32]) -> f32 {
+    b.iter().fold(0.0f32, |m, x| m.max(x.abs()))
+}
+
+fn run_steps(sim: &mut Simulation, steps: usize) {
+    for _ in 0..steps {
+        sim.step().unwrap();
+    }
+    sim.sync().unwrap();
+}
+
+/// After 300 steps of the coupled smoke scene at 800 m/s (the nose is in the target, slaves
+/// are being corrected, elements yield) the two paths agree field by field as closely as round-off lets
+/// them.
+///
+/// Tolerance: each pass agrees with its CPU twin to ~1e-7 of the field's scale (the pass
+/// tests), but the step carries round-off forward and the contact and the element stresses
+/// amplify it (a stress is a difference of nearly equal nodal velocities, and already in free
+/// flight f32 positions give the steel MPa of pressure noise). How far round-off alone moves
+/// this scene is measured, not guessed: the CPU is run a second time with every initial node
+/// velocity one ulp off, and the GPU may depart from the CPU by at most 4× that (the margin
+/// covers the sampling of a chaotic quantity), plus 1e-6 of the field's scale.
+#[test]
+fn gpu_and_cpu_agree_after_300_coupled_steps() {
+    // At 800 m/s the nose yields within the 300 steps.
+    let scene = smoke(&["projectile.velocity=800"]);
+    let mut cpu = Simulation::new(&scene).unwrap();
+    let mut nudged = Simulation::new(&scene).unwrap();
+    for v in nudged.projectile.nodes.vz.iter_mut() {
+        *v = f32::from_bits(v.to_bits() + 1);
+    }
+    let mut gpu = on_gpu(&scene);
+    run_steps(&mut cpu, 300);
+    run_steps(&mut nudged, 300);
+    run_steps(&mut gpu, 300);
+    assert!(cpu.last_hits > 0, "the test must exercise the contact");
+    assert!(
+        cpu.max_plastic_strain() > 0.0,
+        "the test must exercise the plasticity"
+    );
+    assert!(
+        (cpu.time - gpu.time).abs() < 1e-4 * cpu.time,
+        "time {} vs {}",
+        gpu.time,
+        cpu.time
+    );
+    let fields = |s: &Simulation| -> Vec<(&'static str, Vec<f32>)> {
+        let (p, n, e) = (&s.particles, &s.projectile.nodes, &s.projectile.elements);
+        vec![
+            ("particle r", p.r.clone()),
+            ("particle z", p.z.clone()),
+            ("particle vr", p.vr.clone()),
+            ("particle vz", p.vz.clone()),
+            ("particle p", p.p.clone()),
+            ("particle s_rr", p.s_rr.clone()),
+            ("particle s_zz", p.s_zz.clone()),
+            ("particle damage", p.damage.clone()),
+            ("node r", n.r.clone()),
+            ("node z", n.z.clone()),
+            ("node vr", n.vr.clone()),
+            ("node vz", n.vz.clone()),
+            ("element s_rr", e.s_rr.clone()),
+            ("element s_zz", e.s_zz.clone()),
+            ("element p", e.p.clone()),
+            ("element eps_p", e.eps_p.clone()),
+            ("element damage", e.damage.clone()),
+        ]
+    };
+    let (want, got, ulp) = (fields(&cpu), fields(&gpu), fields(&nudged));
+    let mut report = Vec::new();
+    for k in 0..want.len() {
+        let name = want[k].0;
+        let err = max_difference(&got[k].1, &want[k].1);
+        let round_off = max_difference(&ulp[k].1, &want[k].1);
+        let tol = 4.0 * round_off + 1e-6 * scale(&want[k].1);
+        report.push(format!(
+            "{name}: GPU−CPU {err:.3e}, one-ulp nudge {round_off:.3e} (scale {:.3e})",
+            scale(&want[k].1)
+        ));
+        assert!(
+            err <= tol,
+            "{name}: {err:e} > {tol:e}\n{}",
+            report.join("\n")
+        );
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+/// The same scene on the same adapter gives bit-identical state twice.
+#[test]
+fn gpu_runs_are_bit_identical() {
+    let scene = smoke(&[]);
+    let mut a = on_gpu(&scene);
+    let mut b = on_gpu(&scene);
+    run_steps(&mut a, 200);
+    run_steps(&mut b, 200);
+    assert_eq!(a.time.to_bits(), b.time.to_bits());
+    for (x, y) in [
+        (&a.particles.r, &b.particles.r),
+        (&a.particles.vz, &b.particles.vz),
+        (&a.particles.p, &b.particles.p),
+        (&a.projectile.nodes.z, &b.projectile.nodes.z),
+        (&a.projectile.elements.s_zz, &b.projectile.elements.s_zz),
+    ] {
+        let xb: Vec<u32> = x.iter().map(|v| v.to_bits()).collect();
+        let yb: Vec<u32> = y.iter().map(|v| v.to_bits()).collect();
+        assert_eq!(xb, yb);
+    }
+}
+
+/// A short penetration run ends at the CPU's depth within 0.5 %, writes a summary that names
+/// the GPU and lists each pass with its side.
+#[test]
+fn gpu_depth_matches_cpu_on_a_short_penetration() {
+    let scene = smoke(&["run.end_time=1e-4"]);
+    let dir = std::env::temp_dir().join(format!("penetrate-test-{}-gpu", std::process::id()));
+    let run = |backend: Backend, name: &str| {
+        let mut opts = RunOptions::new(dir.join(name));
+        opts.quiet = true;
+        opts.vtk = false;
+        opts.backend = Some(backend);
+        opts.adapter = std::env::var("PENETRATE_ADAPTER").ok();
+        solver::run(&scene, &opts).unwrap()
+    };
+    let cpu = run(Backend::Cpu, "cpu");
+    let gpu = run(Backend::Gpu, "gpu");
+    assert!(
+        cpu.ok && gpu.ok,
+        "{} / {}",
+        cpu.summary.status,
+        gpu.summary.status
+    );
+    let (dc, dg) = (cpu.summary.depth_m, gpu.summary.depth_m);
+    assert!(dc > 0.02, "the projectile penetrates ({dc} m)");
+    assert!(
+        ((dg - dc) / dc).abs() < 0.005,
+        "depth gpu {dg} m, cpu {dc} m"
+    );
+    let s = &gpu.summary;
+    assert_eq!(s.backend, "gpu");
+    assert!(
+        s.passes.contains(&"contact_correct:cpu".to_string()),
+        "{:?}",
+        s.passes
+    );
+    assert!(
+        s.passes.contains(&"sph_forces:gpu".to_string()),
+        "{:?}",
+        s.passes
+    );
+    assert!(
+        s.passes.contains(&"fem_stress:gpu".to_string()),
+        "{:?}",
+        s.passes
+    );
+    let json = std::fs::read_to_string(dir.join("gpu").join("summary.json")).unwrap();
+    assert!(json.contains("\"backend\": \"gpu\""));
+    // Energy and momentum accounts come from the GPU's accumulators: same as the CPU's.
+    assert!(
+        (s.energy_error - cpu.summary.energy_error).abs() < 0.01,
+        "energy error gpu {} cpu {}",
+        s.energy_error,
+        cpu.summary.energy_error
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A rigid projectile (λ = 0) builds no FEM passes on the GPU either, and the Taylor bars (no
+/// target: no SPH or contact passes; copper has no damage model, so its stress pass is built
+/// without the damage update) end at the CPU's length.
+#[test]
+fn gpu_builds_only_the_passes_a_scene_needs() {
+    let rigid = smoke(&["contact.lambda=0"]);
+    let mut sim = on_gpu(&rigid);
+    run_steps(&mut sim, 50);
+    let passes = sim.pass_names("gpu");
+    assert!(!passes.iter().any(|p| p.starts_with("fem_")), "{passes:?}");
+
+    let set = vec![
+        "projectile.element_size=0.001".to_string(),
+        "run.end_time=2e-5".to_string(),
+    ];
+    for case_name in ["taylor-4340-208.toml", "taylor-copper-190.toml"] {
+        let taylor = scene::load(&case(case_name), &set).unwrap();
+        let mut cpu = Simulation::new(&taylor).unwrap();
+        let mut gpu = on_gpu(&taylor);
+        while cpu.time < 2e-5 {
+            cpu.step().unwrap();
+        }
+        while gpu.time < 2e-5 {
+            gpu.step().unwrap();
+        }
+        gpu.sync().unwrap();
+        let (lc, _) = cpu.projectile_extent();
+        let (lg, _) = gpu.projectile_extent();
+        assert!(
+            ((lg - lc) / lc).abs() < 1e-4,
+            "{case_name}: length gpu {lg} cpu {lc}"
+        );
+        assert!(
+            cpu.max_plastic_strain() > 0.01,
+            "{case_name}: the bar yields"
+        );
+        assert!(!gpu
+            .pass_names("gpu")
+            .iter()
+            .any(|p| p.starts_with("sph") || p.starts_with("contact")));
+    }
+}
