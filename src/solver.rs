@@ -291,33 +291,23 @@ impl Simulation {
                         master: rb.hits[order[k]].1,
                     })
                     .collect();
-                let n = &mut self.projectile.nodes;
-                let mut bodies = ContactBodies {
-                    slave_r: &mut sr,
-                    slave_z: &mut sz,
-                    slave_vr: &mut svr,
-                    slave_vz: &mut svz,
-                    slave_mass: &sm,
-                    node_r: &n.r,
-                    node_z: &n.z,
-                    node_vr: &mut n.vr,
-                    node_vz: &mut n.vz,
-                    node_mass: &n.mass,
-                    node_on_axis: &n.on_axis,
-                };
-                let stats = contact::correct(
+                correct_contact(
                     &hits,
-                    &self.projectile.masters,
-                    &mut bodies,
+                    Slaves {
+                        r: &mut sr,
+                        z: &mut sz,
+                        vr: &mut svr,
+                        vz: &mut svz,
+                        mass: &sm,
+                    },
+                    &mut self.projectile,
                     self.scene.contact.lambda as f32,
-                    self.projectile.total_mass,
+                    &mut self.account,
                 );
-                self.account.contact_dissipated += stats.dissipated;
-                self.account.max_penetration =
-                    self.account.max_penetration.max(stats.max_penetration);
                 let fixes: Vec<(u32, [f32; 4])> = (0..m)
                     .map(|k| (slave(k), [sr[k], sz[k], svr[k], svz[k]]))
                     .collect();
+                let n = &self.projectile.nodes;
                 g.correct(&fixes, &n.vr, &n.vz);
             }
         }
@@ -441,31 +431,20 @@ impl Simulation {
         if self.has(Pass::ContactDetect) {
             let hits = self.detect();
             self.last_hits = hits.len();
-            let lambda = self.scene.contact.lambda as f32;
             let p = &mut self.particles;
-            let n = &mut self.projectile.nodes;
-            let mut bodies = ContactBodies {
-                slave_r: &mut p.r,
-                slave_z: &mut p.z,
-                slave_vr: &mut p.vr,
-                slave_vz: &mut p.vz,
-                slave_mass: &p.mass,
-                node_r: &n.r,
-                node_z: &n.z,
-                node_vr: &mut n.vr,
-                node_vz: &mut n.vz,
-                node_mass: &n.mass,
-                node_on_axis: &n.on_axis,
-            };
-            let stats = contact::correct(
+            correct_contact(
                 &hits,
-                &self.projectile.masters,
-                &mut bodies,
-                lambda,
-                self.projectile.total_mass,
+                Slaves {
+                    r: &mut p.r,
+                    z: &mut p.z,
+                    vr: &mut p.vr,
+                    vz: &mut p.vz,
+                    mass: &p.mass,
+                },
+                &mut self.projectile,
+                self.scene.contact.lambda as f32,
+                &mut self.account,
             );
-            self.account.contact_dissipated += stats.dissipated;
-            self.account.max_penetration = self.account.max_penetration.max(stats.max_penetration);
         }
         self.forces(dt)?;
         self.time += dt as f64;
@@ -743,6 +722,49 @@ impl Simulation {
             max_slave_penetration_m: a.max_penetration as f64,
         }
     }
+}
+
+/// The slaves' kinematics the λ correction moves: the particles' own arrays on the CPU path,
+/// the hits' slaves read back from the GPU on the GPU path (a hit's `slave` indexes them).
+struct Slaves<'a> {
+    r: &'a mut [f32],
+    z: &'a mut [f32],
+    vr: &'a mut [f32],
+    vz: &'a mut [f32],
+    mass: &'a [f32],
+}
+
+/// The λ correction of `hits` (physics.md §4) on `slaves` and the projectile's nodes; its
+/// dissipation and deepest penetration are booked in `account`.
+fn correct_contact(
+    hits: &[Hit],
+    slaves: Slaves<'_>,
+    projectile: &mut Projectile,
+    lambda: f32,
+    account: &mut Account,
+) {
+    let Projectile {
+        nodes: n,
+        masters,
+        total_mass,
+        ..
+    } = projectile;
+    let mut bodies = ContactBodies {
+        slave_r: slaves.r,
+        slave_z: slaves.z,
+        slave_vr: slaves.vr,
+        slave_vz: slaves.vz,
+        slave_mass: slaves.mass,
+        node_r: &n.r,
+        node_z: &n.z,
+        node_vr: &mut n.vr,
+        node_vz: &mut n.vz,
+        node_mass: &n.mass,
+        node_on_axis: &n.on_axis,
+    };
+    let stats = contact::correct(hits, masters, &mut bodies, lambda, *total_mass);
+    account.contact_dissipated += stats.dissipated;
+    account.max_penetration = account.max_penetration.max(stats.max_penetration);
 }
 
 /// Options of `penetrate run`.

@@ -17,29 +17,7 @@ fn hjc_source(pass: &str) -> String {
 }
 
 /// Bindings of shaders/concrete.wgsl: SphUniform, the clock, 8 read fields, 11 written.
-const SLOTS: [Slot; 21] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 9), (Slot::ReadWrite, 11)];
 
 /// The HJC update of every particle over the clock's Δt: reads r, vr, the velocity gradient,
 /// drho and de_visc; advances rho, energy, p, the deviator, damage, mu_max, eps_p and sound.
@@ -57,7 +35,7 @@ impl ConcretePass {
         clock: &wgpu::Buffer,
     ) -> Result<ConcretePass, String> {
         let src = hjc_source(include_str!("../../shaders/concrete.wgsl"));
-        let kernel = gpu.kernel("concrete", &src, "main", &SLOTS)?;
+        let kernel = gpu.kernel("concrete", &src, "main", SLOTS)?;
         let p = particles;
         let bind = kernel.bind(
             gpu,
@@ -279,7 +257,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     "hjc law",
                     &src,
                     "main",
-                    &[Slot::Uniform, Slot::Read, Slot::ReadWrite],
+                    &[(Slot::Uniform, 1), (Slot::Read, 1), (Slot::ReadWrite, 1)],
                 )
                 .unwrap();
             let bind = k.bind(&gpu, &[&uniform, &input, &output]);

@@ -21,20 +21,14 @@ pub struct ContactPass {
     n_slaves: u32,
 }
 
-const SLOTS: [Slot; 13] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::Read,
-    Slot::ReadWrite,
+const SLOTS: &[(Slot, usize)] = &[
+    (Slot::Uniform, 1),
+    (Slot::Read, 2),
+    (Slot::ReadWrite, 4),
+    (Slot::Read, 2),
+    (Slot::ReadWrite, 2),
+    (Slot::Read, 1),
+    (Slot::ReadWrite, 1),
 ];
 
 impl ContactPass {
@@ -47,7 +41,7 @@ impl ContactPass {
         nodes: &GpuNodes,
     ) -> Result<ContactPass, String> {
         let src = step_source(&[include_str!("../../shaders/contact.wgsl")]);
-        let kernel = |entry: &str| gpu.kernel(&format!("contact.{entry}"), &src, entry, &SLOTS);
+        let kernel = |entry: &str| gpu.kernel(&format!("contact.{entry}"), &src, entry, SLOTS);
         let n = slaves.len();
         let slave_buf = gpu.buffer("slaves", slaves);
         let m: Vec<[u32; 4]> = masters.iter().map(|m| [m.element, m.a, m.b, m.c]).collect();

@@ -23,42 +23,17 @@ fn fem_source(pass: &str) -> String {
 /// Bindings of shaders/fem_stress.wgsl: FemUniform, the clock, the status words, node r, z, vr,
 /// vz, the connectivity and V₀, then 14 written: the element state (deviator, p, energy, eps_p,
 /// temperature, damage, failed), force, dt, plastic_work and the plastic_total accumulator.
-const STRESS_SLOTS: [Slot; 23] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
+const STRESS_SLOTS: &[(Slot, usize)] = &[
+    (Slot::Uniform, 1),
+    (Slot::Read, 1),
+    (Slot::ReadWrite, 1),
+    (Slot::Read, 6),
+    (Slot::ReadWrite, 14),
 ];
 
 /// Bindings of shaders/fem_forces.wgsl: FemUniform, the node → element CSR, the element forces,
 /// then fr and fz.
-const FORCES_SLOTS: [Slot; 6] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-];
+const FORCES_SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 3), (Slot::ReadWrite, 2)];
 
 /// The projectile's two passes: `fem_stress` advances every element over the clock's Δt and
 /// writes its nodal forces, stable step and plastic work (adding the work to `plastic_total`);
@@ -94,14 +69,14 @@ impl FemPass {
             "fem_stress",
             &fem_source(include_str!("../../shaders/fem_stress.wgsl")),
             "main",
-            &STRESS_SLOTS,
+            STRESS_SLOTS,
             &damage,
         )?;
         let forces = gpu.kernel(
             "fem_forces",
             &step_source(&[include_str!("../../shaders/fem_forces.wgsl")]),
             "main",
-            &FORCES_SLOTS,
+            FORCES_SLOTS,
         )?;
         let (n, e) = (nodes, elements);
         let stress_bind = stress.bind(
@@ -359,7 +334,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     "johnson-cook law",
                     &fem_source(LAW_KERNEL),
                     "main",
-                    &[Slot::Uniform, Slot::Read, Slot::ReadWrite],
+                    &[(Slot::Uniform, 1), (Slot::Read, 1), (Slot::ReadWrite, 1)],
                 )
                 .unwrap();
             let bind = k.bind(&gpu, &[&uniform, &input, &output]);

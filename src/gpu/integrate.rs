@@ -80,30 +80,15 @@ impl Accumulators {
     }
 }
 
-const INTEGRATE_SLOTS: [Slot; 13] = [
-    Slot::Uniform,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
+const INTEGRATE_SLOTS: &[(Slot, usize)] = &[
+    (Slot::Uniform, 1),
+    (Slot::ReadWrite, 6),
+    (Slot::Read, 4),
+    (Slot::ReadWrite, 2),
 ];
 
-const TIMESTEP_SLOTS: [Slot; 6] = [
-    Slot::Uniform,
-    Slot::ReadWrite,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-];
+const TIMESTEP_SLOTS: &[(Slot, usize)] =
+    &[(Slot::Uniform, 1), (Slot::ReadWrite, 1), (Slot::Read, 4)];
 
 impl IntegratePass {
     /// `particles` is None for a scene without a target, `elements` None for a rigid
@@ -122,10 +107,10 @@ impl IntegratePass {
         let n_particles = particles.map_or(0, |p| p.len as u32);
         let src = step_source(&[include_str!("../../shaders/integrate.wgsl")]);
         let integrate =
-            |entry: &str| gpu.kernel(&format!("integrate.{entry}"), &src, entry, &INTEGRATE_SLOTS);
+            |entry: &str| gpu.kernel(&format!("integrate.{entry}"), &src, entry, INTEGRATE_SLOTS);
         let tsrc = step_source(&[include_str!("../../shaders/timestep.wgsl")]);
         let timestep =
-            |entry: &str| gpu.kernel(&format!("timestep.{entry}"), &tsrc, entry, &TIMESTEP_SLOTS);
+            |entry: &str| gpu.kernel(&format!("timestep.{entry}"), &tsrc, entry, TIMESTEP_SLOTS);
 
         let particles_pass = match particles {
             Some(p) => {

@@ -1,7 +1,7 @@
 //! The GPU path: the step's passes as WGSL compute shaders (`shaders/`) through wgpu.
 //!
-//! `Gpu` owns the device; `Kernel` is one compute pipeline whose bindings are described by a
-//! list of `Slot`s (binding i = slot i); `state` holds one storage buffer per field of the CPU's
+//! `Gpu` owns the device; `Kernel` is one compute pipeline whose bindings are described by
+//! runs of `Slot`s in binding order; `state` holds one storage buffer per field of the CPU's
 //! structure-of-arrays state, so every shader has a CPU twin with the same data.
 //!
 //! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
@@ -379,15 +379,17 @@ impl Gpu {
         Ok(out)
     }
 
-    /// Build a compute pipeline from WGSL source; binding i is used as `slots[i]`.
+    /// Build a compute pipeline from WGSL source. `bindings` lists the shader's bindings in
+    /// order as runs of one kind: `&[(Slot::Uniform, 1), (Slot::Read, 8), (Slot::ReadWrite, 7)]`
+    /// is binding 0 a uniform, 1–8 read-only storage, 9–15 read-write storage.
     pub fn kernel(
         &self,
         name: &str,
         source: &str,
         entry: &str,
-        slots: &[Slot],
+        bindings: &[(Slot, usize)],
     ) -> Result<Kernel, String> {
-        self.kernel_with(name, source, entry, slots, &[])
+        self.kernel_with(name, source, entry, bindings, &[])
     }
 
     /// `kernel` with values for the shader's pipeline-overridable constants (`override`): what
@@ -397,9 +399,13 @@ impl Gpu {
         name: &str,
         source: &str,
         entry: &str,
-        slots: &[Slot],
+        bindings: &[(Slot, usize)],
         constants: &[(&str, f64)],
     ) -> Result<Kernel, String> {
+        let slots: Vec<Slot> = bindings
+            .iter()
+            .flat_map(|&(slot, n)| std::iter::repeat_n(slot, n))
+            .collect();
         let storage = slots.iter().filter(|s| **s != Slot::Uniform).count() as u32;
         if storage > self.limits.max_storage_buffers_per_shader_stage {
             return Err(format!(
@@ -465,7 +471,7 @@ impl Gpu {
             name: name.to_string(),
             pipeline,
             layout,
-            slots: slots.to_vec(),
+            slots,
         })
     }
 }

@@ -27,6 +27,20 @@ pub struct GpuGrid {
 pub const NBR_MAX: usize = 64;
 
 impl GpuGrid {
+    /// The six buffers a pass that walks the neighbours binds at 1–6, in the order
+    /// shaders/neighbour_loop.wgsl names them: GridInfo, cell_start, sorted, kin, nbr,
+    /// nbr_count.
+    pub fn walk_bindings(&self) -> [&wgpu::Buffer; 6] {
+        [
+            &self.info,
+            &self.cell_start,
+            &self.sorted,
+            &self.kin,
+            &self.nbr,
+            &self.nbr_count,
+        ]
+    }
+
     /// The grid's buffers for `n` particles and `capacity` cells, with `info` as given.
     fn new(gpu: &Gpu, info: &[u32], cell_start: wgpu::Buffer, n: usize) -> Result<GpuGrid, String> {
         gpu.check_binding_size("the neighbour lists", (4 * NBR_MAX * n) as u64)?;
@@ -42,15 +56,7 @@ impl GpuGrid {
 }
 
 /// Bindings of shaders/neighbour_list.wgsl: SphUniform, the grid, kin, then the lists.
-const LIST_SLOTS: [Slot; 7] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-];
+const LIST_SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 4), (Slot::ReadWrite, 2)];
 
 /// The `list` kernel over a grid.
 struct ListKernel {
@@ -66,18 +72,11 @@ impl ListKernel {
             include_str!("../../shaders/neighbour_loop.wgsl"),
             include_str!("../../shaders/neighbour_list.wgsl"),
         ]);
-        let kernel = gpu.kernel("neighbours.list", &src, "list", &LIST_SLOTS)?;
+        let kernel = gpu.kernel("neighbours.list", &src, "list", LIST_SLOTS)?;
+        let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         let bind = kernel.bind(
             gpu,
-            &[
-                sph_uniform,
-                &grid.info,
-                &grid.cell_start,
-                &grid.sorted,
-                &grid.kin,
-                &grid.nbr,
-                &grid.nbr_count,
-            ],
+            &[sph_uniform, info, cell_start, sorted, kin, nbr, nbr_count],
         );
         Ok(ListKernel { kernel, bind })
     }
@@ -91,18 +90,11 @@ const INFO_OVERFLOW: usize = 9;
 
 /// Bindings of shaders/neighbours.wgsl: SphUniform, GridInfo, cell_start, sorted, cell_of,
 /// rank, then r, z, vr, vz and kin.
-const SLOTS: [Slot; 11] = [
-    Slot::Uniform,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
+const SLOTS: &[(Slot, usize)] = &[
+    (Slot::Uniform, 1),
+    (Slot::ReadWrite, 5),
+    (Slot::Read, 4),
+    (Slot::ReadWrite, 1),
 ];
 
 /// The counting sort of the particles into cells, rebuilt every step.
@@ -138,7 +130,7 @@ impl NeighboursPass {
             include_str!("../../shaders/grid.wgsl"),
             include_str!("../../shaders/neighbours.wgsl"),
         ]);
-        let kernel = |entry: &str| gpu.kernel(&format!("neighbours.{entry}"), &src, entry, &SLOTS);
+        let kernel = |entry: &str| gpu.kernel(&format!("neighbours.{entry}"), &src, entry, SLOTS);
         let capacity = capacity.max(1);
         gpu.check_binding_size("the neighbour grid's cells", 4 * (capacity as u64 + 1))?;
         let n = particles.len;

@@ -15,7 +15,7 @@ struct ScanLevel {
     len: u32,
 }
 
-const SLOTS: [Slot; 3] = [Slot::Uniform, Slot::ReadWrite, Slot::ReadWrite];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::ReadWrite, 2)];
 
 pub struct PrefixScan {
     block: Kernel,
@@ -30,8 +30,8 @@ impl PrefixScan {
     /// A scan of the first `len` entries of `data`.
     pub fn new(gpu: &Gpu, data: &wgpu::Buffer, len: u32) -> Result<PrefixScan, String> {
         let src = source(&[include_str!("../../shaders/scan.wgsl")]);
-        let block = gpu.kernel("scan.block", &src, "scan_block", &SLOTS)?;
-        let add = gpu.kernel("scan.add", &src, "scan_add", &SLOTS)?;
+        let block = gpu.kernel("scan.block", &src, "scan_block", SLOTS)?;
+        let add = gpu.kernel("scan.add", &src, "scan_add", SLOTS)?;
         let max_groups = gpu.limits.max_compute_workgroups_per_dimension;
         let mut levels = Vec::new();
         let mut buffers = Vec::new();

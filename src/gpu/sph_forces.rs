@@ -8,31 +8,7 @@ use super::{source, Gpu, Kernel, Slot};
 /// (GridInfo, cell_start, sorted), kin and the lists, 8 read fields, then what `prologue`
 /// writes for `forces` (stress_rho2, art_stress, pair_s, pair_c) and the four outputs of
 /// `forces`.
-const SLOTS: [Slot; 23] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 14), (Slot::ReadWrite, 8)];
 
 /// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
 /// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
@@ -63,19 +39,20 @@ impl SphForcesPass {
             include_str!("../../shaders/sph_forces.wgsl"),
         ]);
         let art = [("ART_STRESS", f64::from(u8::from(art_stress)))];
-        let prologue = gpu.kernel_with("sph_forces.prologue", &src, "prologue", &SLOTS, &art)?;
-        let forces = gpu.kernel_with("sph_forces.forces", &src, "forces", &SLOTS, &art)?;
+        let prologue = gpu.kernel_with("sph_forces.prologue", &src, "prologue", SLOTS, &art)?;
+        let forces = gpu.kernel_with("sph_forces.forces", &src, "forces", SLOTS, &art)?;
         let p = particles;
+        let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         let pair_s = gpu.zeros::<[f32; 4]>("sph_forces pair_s", p.len);
         let pair_c = gpu.zeros::<[f32; 2]>("sph_forces pair_c", p.len);
         let buffers = [
             sph_uniform,
-            &grid.info,
-            &grid.cell_start,
-            &grid.sorted,
-            &grid.kin,
-            &grid.nbr,
-            &grid.nbr_count,
+            info,
+            cell_start,
+            sorted,
+            kin,
+            nbr,
+            nbr_count,
             &p.rho,
             &p.p,
             &p.s_rr,

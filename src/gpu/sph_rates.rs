@@ -7,24 +7,7 @@ use super::{source, Gpu, Kernel, Slot};
 /// Bindings of shaders/sph_rates.wgsl: SphUniform, the grid (GridInfo, cell_start, sorted),
 /// kin and the lists, mass and rho, then m_tilde and area (written by `areas`, read by
 /// `gradient`) and the 5 outputs of `gradient`.
-const SLOTS: [Slot; 16] = [
-    Slot::Uniform,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::Read,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-    Slot::ReadWrite,
-];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 8), (Slot::ReadWrite, 7)];
 
 /// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
 /// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz and drho.
@@ -48,20 +31,21 @@ impl SphRatesPass {
             include_str!("../../shaders/neighbour_loop.wgsl"),
             include_str!("../../shaders/sph_rates.wgsl"),
         ]);
-        let areas = gpu.kernel("sph_rates.areas", &src, "areas", &SLOTS)?;
-        let gradient = gpu.kernel("sph_rates.gradient", &src, "gradient", &SLOTS)?;
+        let areas = gpu.kernel("sph_rates.areas", &src, "areas", SLOTS)?;
+        let gradient = gpu.kernel("sph_rates.gradient", &src, "gradient", SLOTS)?;
         let p = particles;
+        let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         // One layout for both entry points, so one bind group serves both.
         let bind = areas.bind(
             gpu,
             &[
                 sph_uniform,
-                &grid.info,
-                &grid.cell_start,
-                &grid.sorted,
-                &grid.kin,
-                &grid.nbr,
-                &grid.nbr_count,
+                info,
+                cell_start,
+                sorted,
+                kin,
+                nbr,
+                nbr_count,
                 &p.mass,
                 &p.rho,
                 &p.m_tilde,
