@@ -220,7 +220,8 @@ pub struct FemParams {
     /// Bulk viscosity: quadratic and linear coefficients.
     pub q_quad: f32,
     pub q_lin: f32,
-    /// Newton iterations of the radial return (1 = the GPU's single linearised step).
+    /// Newton iterations of the radial return, on both paths (1 = the single linearised step
+    /// of physics.md §2.1).
     pub return_iterations: u32,
 }
 

@@ -296,7 +296,7 @@ pub fn update_element(
     let mu = 1.0 / rel_volume - 1.0;
     let g_mod = m.shear_modulus;
 
-    // Stress at the start of the step, for the mid-step power.
+    // Stress at the start of the step, for the trapezoidal power.
     let old = total_stress(&st.s, st.p);
 
     // Deviatoric strain rate (θθ included), then the Jaumann-rotated elastic trial.
@@ -348,7 +348,8 @@ pub fn update_element(
         }
     }
 
-    // EOS with the energy at mid-step (explicit predictor), eq. (14).
+    // EOS with the energy predicted to the end of the step from the old stress power
+    // (explicit), eq. (14).
     let e_pred = st.energy + dt * rel_volume * old.power(&d);
     let mut p = steel_eos::pressure(&m.eos, mu, e_pred);
     if st.failed {

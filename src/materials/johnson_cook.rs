@@ -95,7 +95,8 @@ pub struct RadialReturn {
 /// J2 radial return, physics.md §2.1: elastic if σ_trial ≤ σ_y(ε_p); otherwise solve
 /// f(Δε_p) = σ_trial − 3GΔε_p − σ_y(ε_p + Δε_p) = 0 by Newton from Δε_p = 0,
 /// Δε_p += f/(3G + H). `iterations = 1` is exactly the single linearised step
-/// Δε_p = (σ_trial − σ_y)/(3G + H) (the GPU form). More iterations are the CPU reference: Newton
+/// Δε_p = (σ_trial − σ_y)/(3G + H). More iterations (30 by default, on both paths: the GPU runs
+/// this same return, shaders/johnson_cook.wgsl): Newton
 /// kept inside a bracket [lo, hi] ∋ root (bisection when a step leaves it), stopping once
 /// |f| ≤ 1e-7 σ_trial; about 30 reach that everywhere (near ε_p = 0 the floored H of
 /// [`hardening_modulus`] makes plain Newton cycle, the bracket makes it converge).
@@ -335,8 +336,8 @@ mod tests {
         assert_rel(r.d_eps_p, 2.1138837e-3, 1e-5);
     }
 
-    /// How far the GPU's single step is from the converged return (physics.md §2.1 asks for it
-    /// to be reported); 1e3/s, 500 K, f64 reference values. Hardened material (ε_p = 0.05): a
+    /// How far a single linearised step is from the converged return (physics.md §2.1 asks for
+    /// it to be reported; both paths iterate, so this is what one step would cost); 1e3/s, 500 K, f64 reference values. Hardened material (ε_p = 0.05): a
     /// 2.5 % overshoot of yield is returned exactly to f32 round-off, a 53 % one leaves Δε_p
     /// 7.2e-5 (relative) low and the stress 2.5e-5 σ_trial high. At first yield (ε_p = 0) the
     /// floored H (see [`HARDENING_EPS_FLOOR`]) dominates: a 3.2 % overshoot gives 9.1× the
