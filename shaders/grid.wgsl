@@ -1,5 +1,5 @@
 // The cell grid of the neighbour search (src/cpu/neighbours.rs, shaders/neighbours.wgsl):
-// square cells of half the kernel support, numbered row by row (z outer, r inner); a neighbour
+// square cells of half the list radius (the kernel support, plus the skin on the GPU), numbered row by row (z outer, r inner); a neighbour
 // loop visits the 5x5 cells around a particle's cell, row by row, and within a row the
 // particles sorted[cell_start[row + r_lo] .. cell_start[row + r_hi + 1]] (ascending index
 // inside each cell), exactly as CellGrid::for_each_candidate does on the CPU.
@@ -20,6 +20,12 @@ struct GridInfo {
     capacity: u32,
     // 1 when the cloud needed more cells than the capacity and the grid was coarsened.
     overflow: u32,
+    // Radius of the neighbour lists: the support grown by the skin (src/gpu/neighbours.rs),
+    // set once by the host; the cells are half of it.
+    list_radius: f32,
+    // Largest squared displacement of a particle since the lists were built (f32 bits;
+    // neighbours.wgsl `displacement`), read back every step to decide the next rebuild.
+    moved2: u32,
 }
 
 // Order-preserving map of an f32 to a u32 (for atomicMin/atomicMax on floats).

@@ -1,5 +1,6 @@
-// `list` (part of the neighbours pass; CPU twin: cpu::neighbours::for_each_neighbour): per
-// particle, its neighbours in the order the gather passes visit them, column-major
+// `list` (part of the neighbours pass; CPU twin: cpu::neighbours::for_each_neighbour with the
+// list radius for the support): per particle, the particles within the list radius in the
+// order the gather passes visit them, column-major
 // (nbr[k * n + i]: neighbouring threads read neighbouring words), and their count, which
 // exceeds NBR_MAX when the list overflowed (the gathers then walk the grid). Needs params.wgsl,
 // grid.wgsl and neighbour_loop.wgsl.
@@ -29,8 +30,8 @@ fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
     var g = Gather(0u);
-    let support = 2.0 * u.kernel.h;
+    let radius = grid.list_radius;
     let xi = kin[i].xy;
-    grid_sweeps(&g, i, xi, support * support, true, xi.x < support);
+    grid_sweeps(&g, i, xi, radius * radius, true, xi.x < radius);
     nbr_count[i] = g.count;
 }

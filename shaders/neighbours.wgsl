@@ -1,16 +1,23 @@
 // `neighbours` (CPU twin: src/cpu/neighbours.rs, `run`): bin the particles into the cell grid
-// of grid.wgsl with a counting sort, and leave the same `cell_start` and `sorted` as the CPU:
+// of grid.wgsl with a counting sort, and leave the same `cell_start` and `sorted` as the CPU
+// for the same cell size (half the list radius):
 //
 //   bounds      the cloud's r_max, z_min, z_max (each thread folds a share, then atomics on
 //               order-preserving keys: order-independent, so deterministic)
 //   setup       one thread: the grid's shape from the bounds; the keys reset for the next step
 //   clear       every cell count to zero
-//   count       per particle: its cell, its arrival rank in it (atomicAdd), and its packed
-//               kinematics for the gathers
+//   count       per particle: its cell, its arrival rank in it (atomicAdd), and its position
+//               (the lists' reference for the displacement watch)
 //   (scan.wgsl)  prefix sum of the counts: cell_start
 //   scatter     per particle: sorted[cell_start[cell] + rank] = particle
 //   sort_cells  per cell: its short segment sorted by particle index, so the arrival order
 //               of the atomics (which varies between runs) leaves no trace (gpu-notes.md)
+//   (neighbour_list.wgsl) the lists
+//
+// That build runs when the lists may have gone stale: they hold every particle within the
+// support grown by a skin, so they stay complete until some particle has moved half the skin
+// (src/gpu/step.rs LIST_SKIN). Every step `pack` refreshes the packed kinematics the gathers read
+// and `displacement`, after the integration, measures how far the particles have moved.
 //
 // The grid is allocated once for `capacity` cells; a cloud that needs more (it has spread far)
 // gets cells coarsened by powers of two until it fits: the 5x5-cell search then still covers
@@ -26,8 +33,10 @@
 @group(0) @binding(7) var<storage, read> z: array<f32>;
 @group(0) @binding(8) var<storage, read> vr: array<f32>;
 @group(0) @binding(9) var<storage, read> vz: array<f32>;
-// (r, z, v_r, v_z) per particle for the gather passes (neighbour_loop.wgsl), written by `count`.
+// (r, z, v_r, v_z) per particle for the gather passes (neighbour_loop.wgsl), written by `pack`.
 @group(0) @binding(10) var<storage, read_write> kin: array<vec4<f32>>;
+// Each particle's position when the lists were last built (written by `count`).
+@group(0) @binding(11) var<storage, read_write> x_build: array<vec2<f32>>;
 
 // GridInfo of grid.wgsl with atomic bound keys (the build's view of the same buffer).
 struct GridBuild {
@@ -41,6 +50,8 @@ struct GridBuild {
     cells: u32,
     capacity: u32,
     overflow: u32,
+    list_radius: f32,
+    moved2: atomic<u32>,
 }
 
 // neighbours.rs MAX_CELLS_PER_AXIS.
@@ -76,8 +87,8 @@ fn setup() {
     let r_max = key_float(atomicLoad(&grid.r_max_key));
     let z_min = key_float(atomicLoad(&grid.z_min_key));
     let z_max = key_float(atomicLoad(&grid.z_max_key));
-    // Half the support (2h): the CPU's cell.
-    var cell = u.kernel.h;
+    // Half the list radius: with no skin, half the support (2h), the CPU's cell.
+    var cell = 0.5 * grid.list_radius;
     var n_r = axis_cells(r_max, cell);
     var n_z = axis_cells(z_max - z_min, cell);
     var overflow = 0u;
@@ -119,7 +130,7 @@ fn clear(@builtin(global_invocation_id) gid: vec3<u32>,
 // The GridInfo view of the build's state, for grid_cell.
 fn info() -> GridInfo {
     return GridInfo(0u, 0u, 0u, grid.n_r, grid.n_z, grid.cell, grid.z0, grid.cells,
-                    grid.capacity, grid.overflow);
+                    grid.capacity, grid.overflow, grid.list_radius, 0u);
 }
 
 // Cell c counts into slot c + 1, so that the inclusive scan of the slots (scan.wgsl) leaves
@@ -133,7 +144,31 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
     let cell = c.y * g.n_r + c.x;
     cell_of[i] = cell;
     rank[i] = atomicAdd(&cell_start[cell + 1u], 1u);
+    x_build[i] = vec2<f32>(r[i], z[i]);
+}
+
+// Every step, before the gathers: the packed kinematics, and the displacement watch reset.
+@compute @workgroup_size(64)
+fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i == 0u) {
+        atomicStore(&grid.moved2, 0u);
+    }
+    if (i >= u.n) { return; }
     kin[i] = vec4<f32>(r[i], z[i], vr[i], vz[i]);
+}
+
+// After the integration: the largest squared displacement since the lists were built (each
+// thread folds a share, then one atomic; non-negative f32 bits order like the values).
+@compute @workgroup_size(64)
+fn displacement(@builtin(global_invocation_id) gid: vec3<u32>,
+                @builtin(num_workgroups) groups: vec3<u32>) {
+    var most = 0.0;
+    for (var i = gid.x; i < u.n; i += groups.x * WG) {
+        let d = vec2<f32>(r[i], z[i]) - x_build[i];
+        most = max(most, dot(d, d));
+    }
+    atomicMax(&grid.moved2, bitcast<u32>(most));
 }
 
 @compute @workgroup_size(64)

@@ -25,6 +25,10 @@ pub struct BenchRow {
     pub readback_us: Option<f64>,
     /// GPU buffer bytes per particle (GPU only).
     pub bytes_per_particle: Option<f64>,
+    /// Neighbour-list builds during the timed steps, and what a step that builds them costs
+    /// more, ms (GPU only).
+    pub list_builds: Option<u64>,
+    pub build_ms: Option<f64>,
     /// Why this size did not run on this backend (a limit of the adapter, say).
     pub refused: Option<String>,
 }
@@ -72,6 +76,8 @@ pub fn run(
                         pass_ms: Vec::new(),
                         readback_us: None,
                         bytes_per_particle: None,
+                        list_builds: None,
+                        build_ms: None,
                         refused: Some(e.to_string()),
                     });
                     continue;
@@ -87,11 +93,14 @@ pub fn run(
             log(&format!(
                 "bench: {n} particles on the {name}: {timed} steps"
             ));
+            let builds = |sim: &mut Simulation| sim.gpu_step().map(|g| g.builds);
+            let builds_before = builds(&mut sim);
             let start = Instant::now();
             for _ in 0..timed {
                 sim.step().map_err(|e| e.to_string())?;
             }
             let wall = start.elapsed().as_secs_f64();
+            let list_builds = builds(&mut sim).zip(builds_before).map(|(a, b)| a - b);
             let particles = sim.particles.len();
             let mut row = BenchRow {
                 backend: if sim.backend == "gpu" {
@@ -107,17 +116,33 @@ pub fn run(
                 pass_ms: Vec::new(),
                 readback_us: None,
                 bytes_per_particle: None,
+                list_builds,
+                build_ms: None,
                 refused: None,
             };
             if let Some(g) = sim.gpu_step() {
                 row.bytes_per_particle = Some(g.gpu_bytes() as f64 / particles.max(1) as f64);
                 row.readback_us = Some(g.readback_latency(50)? * 1e6);
+                row.build_ms = Some(build_cost(&mut sim, row.ms_per_step, timed.min(10))?);
             }
             row.pass_ms = profile(&mut sim, 10)?;
             rows.push(row);
         }
     }
     Ok(rows)
+}
+
+/// How much longer a GPU step is when it builds the neighbour lists than `plain_ms`, over
+/// `steps` steps that each build them (ms).
+fn build_cost(sim: &mut Simulation, plain_ms: f64, steps: usize) -> Result<f64, String> {
+    let start = Instant::now();
+    for _ in 0..steps {
+        if let Some(g) = sim.gpu_step() {
+            g.force_list_build();
+        }
+        sim.step().map_err(|e| e.to_string())?;
+    }
+    Ok(1e3 * start.elapsed().as_secs_f64() / steps.max(1) as f64 - plain_ms)
 }
 
 /// Mean GPU time per pass over `steps` profiled steps (ms), where the adapter has timestamps.
@@ -144,12 +169,12 @@ fn profile(sim: &mut Simulation, steps: usize) -> Result<Vec<(&'static str, f64)
 /// The table as Markdown.
 pub fn table(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle |\n|---|---|---|---|---|---|---|---|\n",
+        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(why) = &r.refused {
             out += &format!(
-                "| {} | ~{} | – | – | – | not run: {} | – | – |\n",
+                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – |\n",
                 r.backend,
                 r.particles,
                 why.replace('|', "/")
@@ -157,7 +182,7 @@ pub fn table(rows: &[BenchRow]) -> String {
             continue;
         }
         out += &format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} |\n",
+            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} |\n",
             r.backend,
             r.particles,
             r.elements,
@@ -167,6 +192,8 @@ pub fn table(rows: &[BenchRow]) -> String {
             r.readback_us.map_or("–".into(), |v| format!("{v:.0}")),
             r.bytes_per_particle
                 .map_or("–".into(), |v| format!("{v:.0}")),
+            r.list_builds.map_or("–".into(), |v| v.to_string()),
+            r.build_ms.map_or("–".into(), |v| format!("{v:.2}")),
         );
     }
     let profiled: Vec<&BenchRow> = rows.iter().filter(|r| !r.pass_ms.is_empty()).collect();

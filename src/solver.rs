@@ -205,6 +205,7 @@ impl Simulation {
             escape: self.escape,
             cfl: self.scene.run.cfl as f32,
             dt: self.dt,
+            list_skin: crate::gpu::step::LIST_SKIN,
         };
         let step = GpuStep::new(gpu, &setup).map_err(RunError::Setup)?;
         self.gpu = Some(Box::new(step));
@@ -307,8 +308,12 @@ impl Simulation {
                 let fixes: Vec<(u32, [f32; 4])> = (0..m)
                     .map(|k| (slave(k), [sr[k], sz[k], svr[k], svz[k]]))
                     .collect();
+                // How far the correction moved a slave (the neighbour lists' watch).
+                let moved = (0..m)
+                    .map(|k| (sr[k] - data(k)[0]).hypot(sz[k] - data(k)[1]))
+                    .fold(0.0f32, f32::max);
                 let n = &self.projectile.nodes;
-                g.correct(&fixes, &n.vr, &n.vz);
+                g.correct(&fixes, moved, &n.vr, &n.vz);
             }
         }
         self.time += dt as f64;
@@ -720,6 +725,7 @@ impl Simulation {
             min_dt_s: if a.min_dt == f64::MAX { 0.0 } else { a.min_dt },
             max_dt_s: a.max_dt,
             max_slave_penetration_m: a.max_penetration as f64,
+            neighbour_list_builds: self.gpu.as_ref().map_or(0, |g| g.builds),
         }
     }
 }

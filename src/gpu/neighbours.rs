@@ -83,21 +83,27 @@ impl ListKernel {
 }
 
 /// `GridInfo` words of shaders/grid.wgsl: the bound keys, n_r, n_z, cell, z0, cells, capacity,
-/// overflow.
-const INFO_WORDS: usize = 10;
+/// overflow, list_radius, moved2.
+const INFO_WORDS: usize = 12;
 const INFO_CAPACITY: usize = 8;
+#[cfg(test)]
 const INFO_OVERFLOW: usize = 9;
+const INFO_LIST_RADIUS: usize = 10;
+/// Byte offset of `moved2` in GridInfo (copied to the step's read-back).
+pub const MOVED2_OFFSET: u64 = 4 * 11;
 
 /// Bindings of shaders/neighbours.wgsl: SphUniform, GridInfo, cell_start, sorted, cell_of,
-/// rank, then r, z, vr, vz and kin.
+/// rank, then r, z, vr, vz, kin and x_build.
 const SLOTS: &[(Slot, usize)] = &[
     (Slot::Uniform, 1),
     (Slot::ReadWrite, 5),
     (Slot::Read, 4),
-    (Slot::ReadWrite, 1),
+    (Slot::ReadWrite, 2),
 ];
 
-/// The counting sort of the particles into cells, rebuilt every step.
+/// The neighbour search: the counting sort of the particles into cells and the lists (the
+/// build), the packed kinematics every step, and the displacement watch that says when the
+/// lists must be built again.
 pub struct NeighboursPass {
     bounds: Kernel,
     setup: Kernel,
@@ -107,23 +113,25 @@ pub struct NeighboursPass {
     scatter: Kernel,
     sort_cells: Kernel,
     list: ListKernel,
+    pack: Kernel,
+    displacement: Kernel,
     bind: wgpu::BindGroup,
     n: u32,
     /// Workgroups of the grid-stride loops over the cells.
     cell_groups: u32,
-    info: wgpu::Buffer,
     // Kept alive for the bind group.
-    _scratch: [wgpu::Buffer; 2],
+    _scratch: [wgpu::Buffer; 3],
 }
 
 impl NeighboursPass {
     /// The pass and the grid it fills, for up to `capacity` cells (beyond that the grid
-    /// coarsens).
+    /// coarsens), with lists of the particles within `list_radius` (at least the support).
     pub fn new(
         gpu: &Gpu,
         particles: &GpuParticles,
         sph_uniform: &wgpu::Buffer,
         capacity: u32,
+        list_radius: f32,
     ) -> Result<(NeighboursPass, GpuGrid), String> {
         let src = source(&[
             include_str!("../../shaders/params.wgsl"),
@@ -140,10 +148,12 @@ impl NeighboursPass {
         words[0] = 0x8000_0000; // float_key(0.0)
         words[1] = u32::MAX;
         words[INFO_CAPACITY] = capacity;
+        words[INFO_LIST_RADIUS] = list_radius.to_bits();
         let cell_start = gpu.zeros::<u32>("cell_start", capacity as usize + 1);
         let grid = GpuGrid::new(gpu, &words, cell_start, n)?;
         let cell_of = gpu.zeros::<u32>("cell_of", n);
         let rank = gpu.zeros::<u32>("rank in cell", n);
+        let x_build = gpu.zeros::<[f32; 2]>("positions at the build", n);
         let bounds = kernel("bounds")?;
         let bind = bounds.bind(
             gpu,
@@ -159,6 +169,7 @@ impl NeighboursPass {
                 &particles.vr,
                 &particles.vz,
                 &grid.kin,
+                &x_build,
             ],
         );
         let pass = NeighboursPass {
@@ -170,18 +181,25 @@ impl NeighboursPass {
             scatter: kernel("scatter")?,
             sort_cells: kernel("sort_cells")?,
             list: ListKernel::new(gpu, &grid, sph_uniform)?,
+            pack: kernel("pack")?,
+            displacement: kernel("displacement")?,
             bind,
             n: n as u32,
             cell_groups: (capacity + 1)
                 .div_ceil(super::WORKGROUP)
                 .min(gpu.limits.max_compute_workgroups_per_dimension),
-            info: grid.info.clone(),
-            _scratch: [cell_of, rank],
+            _scratch: [cell_of, rank, x_build],
         };
         Ok((pass, grid))
     }
 
-    pub fn record(&self, pass: &mut wgpu::ComputePass) {
+    /// Every step, before the gathers: the packed kinematics (and the watch reset), then the
+    /// grid and the lists when `build`.
+    pub fn record(&self, pass: &mut wgpu::ComputePass, build: bool) {
+        self.pack.dispatch(pass, &self.bind, self.n);
+        if !build {
+            return;
+        }
         self.bounds.dispatch_fold(pass, &self.bind, self.n);
         self.setup.dispatch_groups(pass, &self.bind, 1);
         self.clear
@@ -194,11 +212,9 @@ impl NeighboursPass {
         self.list.kernel.dispatch(pass, &self.list.bind, self.n);
     }
 
-    /// True when the last build needed more cells than its capacity and coarsened the grid
-    /// (a read-back: for reports, not for the step).
-    pub fn coarsened(&self, gpu: &Gpu) -> Result<bool, String> {
-        let words: Vec<u32> = gpu.read(&self.info, INFO_WORDS)?;
-        Ok(words[INFO_OVERFLOW] != 0)
+    /// After the integration: the largest displacement since the build, into GridInfo.moved2.
+    pub fn record_displacement(&self, pass: &mut wgpu::ComputePass) {
+        self.displacement.dispatch_fold(pass, &self.bind, self.n);
     }
 }
 
@@ -240,6 +256,7 @@ pub(crate) mod tests {
         info[6] = g.z0.to_bits();
         info[7] = cells;
         info[INFO_CAPACITY] = cells;
+        info[INFO_LIST_RADIUS] = (2.0 * g.cell).to_bits();
         let n = particles.len();
         let grid = GpuGrid::new(gpu, &info, gpu.buffer("cell_start", &g.cell_start), n).unwrap();
         gpu.write(&grid.sorted, &g.sorted);
@@ -273,9 +290,10 @@ pub(crate) mod tests {
         let gpu = test_gpu();
         let gp = GpuParticles::upload(&gpu, particles);
         let uniform = gpu.uniform("sph", &SphUniform::new(sph, gp.len));
-        let (pass, grid) = NeighboursPass::new(&gpu, &gp, &uniform, capacity).unwrap();
-        run_once(&gpu, |p| pass.record(p)).unwrap();
-        run_once(&gpu, |p| pass.record(p)).unwrap();
+        let support = sph.kernel.support();
+        let (pass, grid) = NeighboursPass::new(&gpu, &gp, &uniform, capacity, support).unwrap();
+        run_once(&gpu, |p| pass.record(p, true)).unwrap();
+        run_once(&gpu, |p| pass.record(p, true)).unwrap();
         let info: Vec<u32> = gpu.read(&grid.info, INFO_WORDS).unwrap();
         let n = particles.len();
         let cells = (info[3] * info[4]) as usize;

@@ -140,4 +140,77 @@ mod tests {
     fn sph_rates_on_overflowed_lists_match_cpu() {
         compare(false);
     }
+
+    /// Lists built with a skin and then used after the particles have moved (less than half
+    /// the skin) still give the CPU's rates at the new positions, and the displacement watch
+    /// measures the move.
+    #[test]
+    fn sph_rates_on_stale_lists_match_cpu() {
+        use crate::gpu::neighbours::{capacity, NeighboursPass, MOVED2_OFFSET};
+        let gpu = test_gpu();
+        let mut sim = smoke(SMOKE_STEPS, &[]);
+        let sph = sim.sph.expect("smoke has a target");
+        let support = sph.kernel.support();
+        let skin = 0.5;
+        let built = sim.particles.clone();
+        let gp = GpuParticles::upload(&gpu, &built);
+        let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
+        let cap = capacity(&built.r, &built.z, support);
+        let (neighbours, grid) =
+            NeighboursPass::new(&gpu, &gp, &uniform, cap, support * (1.0 + skin)).unwrap();
+        run_once(&gpu, |p| neighbours.record(p, true)).unwrap();
+
+        // Move on, on the CPU, while every particle stays within the lists' slack.
+        let slack = 0.5 * skin * support;
+        let moved = |p: &crate::state::Particles| {
+            (0..p.len())
+                .map(|i| (p.r[i] - built.r[i]).hypot(p.z[i] - built.z[i]))
+                .fold(0.0f32, f32::max)
+        };
+        let mut steps = 0;
+        while moved(&sim.particles) < 0.5 * slack && steps < 200 {
+            sim.step().unwrap();
+            steps += 1;
+        }
+        let now = sim.particles.clone();
+        let d = moved(&now);
+        eprintln!("stale lists: {steps} steps later, largest move {d:e} m, slack {slack:e} m");
+        assert!(
+            d > 0.0 && d < slack,
+            "the test must move the particles, within the slack"
+        );
+
+        let mut cpu = now.clone();
+        crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
+        gp.write(&gpu, &now);
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform).unwrap();
+        run_once(&gpu, |p| {
+            neighbours.record(p, false);
+            neighbours.record_displacement(p);
+            pass.record(p);
+        })
+        .unwrap();
+        let mut back = now.clone();
+        gp.download(&gpu, &mut back).unwrap();
+        let info: Vec<u32> = gpu
+            .read(&grid.info, (MOVED2_OFFSET / 4 + 1) as usize)
+            .unwrap();
+        let watched = f32::from_bits(info[(MOVED2_OFFSET / 4) as usize]).sqrt();
+        assert!(
+            (watched - d).abs() <= 1e-5 * d,
+            "watch {watched:e} vs {d:e}"
+        );
+        // The same neighbours in another order (the lists keep the order of the build).
+        for (name, a, b) in [
+            ("l_rr", &back.l_rr, &cpu.l_rr),
+            ("l_rz", &back.l_rz, &cpu.l_rz),
+            ("l_zr", &back.l_zr, &cpu.l_zr),
+            ("l_zz", &back.l_zz, &cpu.l_zz),
+            ("drho", &back.drho, &cpu.drho),
+        ] {
+            let e = field_error(a, b);
+            eprintln!("sph_rates (stale lists) {name}: relative error {e:e}");
+            assert!(e <= 1.0e-5, "{name}: relative error {e:e}");
+        }
+    }
 }

@@ -5,14 +5,17 @@
 //! ```text
 //! apply (k−1's corrected slaves) → neighbours → sph_rates → concrete → sph_forces
 //!   → fem_stress → fem_forces → Δt reduction (clock.dt = Δt_k)
-//!   → integrate (Δt_k) → contact detect → copy clock, status, hits, nodes to the staging buffer
+//!   → integrate (Δt_k) → displacement watch → contact detect
+//!   → copy clock, watch, status, hits, nodes to the staging buffer
 //! ```
 //!
-//! then one mapping brings back Δt_k, the status words, the hits with their slaves' kinematics
-//! and the nodes' positions and velocities; the host applies the λ correction and the global
-//! shift (physics.md §4, `contact::correct`) and writes the corrected slaves and node velocities
-//! for the next submission. `flush` runs a pending second half alone, so that the GPU state is
-//! the CPU's after the same number of `Simulation::step` calls (for outputs).
+//! then one mapping brings back Δt_k, how far the particles have moved since the neighbour
+//! lists were built, the status words, the hits with their slaves' kinematics and the nodes'
+//! positions and velocities; the host applies the λ correction and the global shift
+//! (physics.md §4, `contact::correct`) and writes the corrected slaves and node velocities for
+//! the next submission, which builds the neighbour lists again only when a particle may have
+//! moved half the lists' skin (`LIST_SKIN`). `flush` runs a pending second half alone, so that
+//! the GPU state is the CPU's after the same number of `Simulation::step` calls (for outputs).
 
 use super::contact::ContactPass;
 use super::fem::FemPass;
@@ -21,18 +24,29 @@ use super::integrate::{
     STATUS_NODE_ESCAPED, STATUS_NODE_NONFINITE, STATUS_PARTICLE_ESCAPED, STATUS_PARTICLE_NONFINITE,
     STATUS_WORDS,
 };
-use super::neighbours::{GpuGrid, NeighboursPass};
+use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::SphUniform;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::Gpu;
 use crate::state::{FemParams, Particles, Projectile, SphParams};
 
+/// The neighbour lists hold the particles within the support grown by this fraction of it, so
+/// they stay complete until some particle has moved half of the growth, and are built only
+/// then. Measured on lavapipe at 10⁵ particles (`penetrate bench`): a build costs about as much
+/// as both gathers together; a skin of 0.05 adds nothing measurable to the gathers, 0.1 adds a
+/// third; the Forrestal 277 m/s shot at 4 mm spacing then builds once every 38 steps. 0 builds
+/// them every step, as the CPU path searches its neighbours.
+pub const LIST_SKIN: f32 = 0.05;
+
+/// The lists are rebuilt once a particle may have moved this fraction of the half-skin (the
+/// rest is margin for f32 round-off of the displacements).
+const SKIN_USE: f32 = 0.9;
+
 /// The SPH passes of a scene with a target.
 struct SphPasses {
     particles: GpuParticles,
     neighbours: NeighboursPass,
-    // Kept alive for the bind groups that use it.
-    _grid: GpuGrid,
+    grid: GpuGrid,
     rates: super::sph_rates::SphRatesPass,
     concrete: super::concrete::ConcretePass,
     forces: super::sph_forces::SphForcesPass,
@@ -56,6 +70,7 @@ pub struct Readback {
 
 /// Byte offsets in the staging buffer.
 struct Layout {
+    moved2: u64,
     status: u64,
     hits: u64,
     hit_data: u64,
@@ -84,6 +99,12 @@ pub struct GpuStep {
     pending_fixes: u32,
     /// The second half of the last step (forces, Δt) has not been recorded yet.
     pending_forces: bool,
+    /// How far a particle may move from where the neighbour lists were built before they must
+    /// be built again (m), and a bound on how far one has moved (infinite: never built).
+    list_slack: f32,
+    since_build: f32,
+    /// Neighbour-list builds so far.
+    pub builds: u64,
     /// Timestamps between passes (`bench`), where the adapter has them.
     profiler: Option<Profiler>,
 }
@@ -131,6 +152,8 @@ pub struct StepSetup<'a> {
     pub cfl: f32,
     /// The first step's Δt (from the CPU's start-up evaluation).
     pub dt: f32,
+    /// The neighbour lists' skin as a fraction of the support (`LIST_SKIN`; 0: every step).
+    pub list_skin: f32,
 }
 
 impl GpuStep {
@@ -186,8 +209,13 @@ impl GpuStep {
                 let sph_uniform = gpu.uniform("sph", &SphUniform::new(params, p.len()));
                 let support = crate::cpu::integrate::support(params);
                 let capacity = super::neighbours::capacity(&p.r, &p.z, support);
-                let (neighbours, grid) =
-                    NeighboursPass::new(&gpu, &particles, &sph_uniform, capacity)?;
+                let (neighbours, grid) = NeighboursPass::new(
+                    &gpu,
+                    &particles,
+                    &sph_uniform,
+                    capacity,
+                    support * (1.0 + s.list_skin),
+                )?;
                 let rates =
                     super::sph_rates::SphRatesPass::new(&gpu, &particles, &grid, &sph_uniform)?;
                 let concrete =
@@ -215,7 +243,7 @@ impl GpuStep {
                 Some(SphPasses {
                     particles,
                     neighbours,
-                    _grid: grid,
+                    grid,
                     rates,
                     concrete,
                     forces,
@@ -249,11 +277,13 @@ impl GpuStep {
         )?;
 
         let nn = s.projectile.nodes.len() as u64;
-        let status_at = 8u64;
+        let moved2_at = 8u64;
+        let status_at = 16u64;
         let hits_at = status_at + 4 * STATUS_WORDS as u64;
         let hit_data_at = hits_at + 4 * (1 + 2 * hit_capacity as u64);
         let nodes_at = hit_data_at + 16 * hit_capacity as u64;
         let layout = Layout {
+            moved2: moved2_at,
             status: status_at,
             hits: hits_at,
             hit_data: hit_data_at,
@@ -287,6 +317,9 @@ impl GpuStep {
             n_nodes: nn as usize,
             pending_fixes: 0,
             pending_forces: false,
+            list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
+            since_build: f32::INFINITY,
+            builds: 0,
             profiler: None,
         })
     }
@@ -361,16 +394,27 @@ impl GpuStep {
         }
     }
 
+    /// Build the neighbour lists in the next step whatever the particles did (`bench`).
+    pub fn force_list_build(&mut self) {
+        self.since_build = f32::INFINITY;
+    }
+
+    /// Whether the next gathers need the neighbour lists built again: some particle may have
+    /// moved too far (or NaN: build, and let the step report the particle).
+    fn lists_stale(&self) -> bool {
+        self.since_build.is_nan() || self.since_build > self.list_slack
+    }
+
     /// The second half of a step: corrected slaves written back, rates, stresses, forces and
-    /// the next Δt.
-    fn record_forces(&self, pass: &mut wgpu::ComputePass) {
+    /// the next Δt; the neighbour lists built first when `build`.
+    fn record_forces(&self, pass: &mut wgpu::ComputePass, build: bool) {
         let sph = self.sph.as_ref();
         if let Some(c) = sph.and_then(|s| s.contact.as_ref()) {
             c.record_apply(pass, self.pending_fixes);
         }
         self.mark(pass, 1);
         if let Some(sph) = sph {
-            sph.neighbours.record(pass);
+            sph.neighbours.record(pass, build);
             self.mark(pass, 2);
             sph.rates.record(pass);
             self.mark(pass, 3);
@@ -401,14 +445,24 @@ impl GpuStep {
         if !self.pending_forces {
             return Ok(());
         }
-        super::run_once(&self.gpu, |pass| self.record_forces(pass))?;
+        let build = self.lists_stale();
+        super::run_once(&self.gpu, |pass| self.record_forces(pass, build))?;
+        self.built(build);
         self.pending_forces = false;
         self.pending_fixes = 0;
         Ok(())
     }
 
+    fn built(&mut self, build: bool) {
+        if build && self.sph.is_some() {
+            self.since_build = 0.0;
+            self.builds += 1;
+        }
+    }
+
     /// Advance one step up to the contact correction and read back what the host needs.
     pub fn advance(&mut self) -> Result<Readback, String> {
+        let build = self.pending_forces && self.lists_stale();
         let mut encoder = self
             .gpu
             .device
@@ -422,13 +476,16 @@ impl GpuStep {
             });
             self.mark(&mut pass, 0);
             if self.pending_forces {
-                self.record_forces(&mut pass);
+                self.record_forces(&mut pass, build);
             } else {
                 for slot in 1..=8 {
                     self.mark(&mut pass, slot);
                 }
             }
             self.integrate.record_integrate(&mut pass);
+            if let Some(sph) = &self.sph {
+                sph.neighbours.record_displacement(&mut pass);
+            }
             self.mark(&mut pass, 9);
             if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
                 c.record_detect(&mut pass);
@@ -441,6 +498,15 @@ impl GpuStep {
         }
         let l = &self.layout;
         encoder.copy_buffer_to_buffer(&self.clock, 0, &self.staging, 0, 8);
+        if let Some(sph) = &self.sph {
+            encoder.copy_buffer_to_buffer(
+                &sph.grid.info,
+                MOVED2_OFFSET,
+                &self.staging,
+                l.moved2,
+                4,
+            );
+        }
         encoder.copy_buffer_to_buffer(
             &self.status,
             0,
@@ -461,12 +527,18 @@ impl GpuStep {
             encoder.copy_buffer_to_buffer(b, 0, &self.staging, l.nodes + k as u64 * nn, nn);
         }
         self.gpu.queue.submit([encoder.finish()]);
+        self.built(build);
         self.pending_forces = true;
         self.pending_fixes = 0;
+        let l = &self.layout;
         let bytes = self.gpu.map_read(&self.staging, l.size as usize)?;
         let words: &[u32] = bytemuck::cast_slice(&bytes);
         let floats: &[f32] = bytemuck::cast_slice(&bytes);
         let at = |offset: u64| (offset / 4) as usize;
+        if self.sph.is_some() {
+            // Measured after this step's integration, from the positions of the last build.
+            self.since_build = f32::from_bits(words[at(l.moved2)]).sqrt();
+        }
         let mut status = [0u32; STATUS_WORDS];
         status.copy_from_slice(&words[at(l.status)..at(l.status) + STATUS_WORDS]);
         let n = self.n_nodes;
@@ -511,11 +583,19 @@ impl GpuStep {
         Ok(rb)
     }
 
-    /// Write the host's corrections: slaves `(index, [r, z, vr, vz])` and every node velocity.
-    pub fn correct(&mut self, fixes: &[(u32, [f32; 4])], node_vr: &[f32], node_vz: &[f32]) {
+    /// Write the host's corrections: slaves `(index, [r, z, vr, vz])`, which moved them by at
+    /// most `moved` (m), and every node velocity.
+    pub fn correct(
+        &mut self,
+        fixes: &[(u32, [f32; 4])],
+        moved: f32,
+        node_vr: &[f32],
+        node_vz: &[f32],
+    ) {
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             c.write_fixes(&self.gpu, fixes);
             self.pending_fixes = fixes.len() as u32;
+            self.since_build += moved;
         }
         self.gpu.write(&self.nodes.vr, node_vr);
         self.gpu.write(&self.nodes.vz, node_vz);
@@ -613,4 +693,70 @@ pub struct Totals {
     pub wall_lost: f64,
     pub plastic_work: f64,
     pub next_dt: f32,
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::gpu::neighbours::NBR_MAX;
+
+    /// Over a coupled run with the lists' skin, every pair within the support at the moment
+    /// the gathers run is in the lists (or the list overflowed, and the gathers walk the grid).
+    #[test]
+    fn stale_lists_hold_every_neighbour() {
+        let scene = crate::scene::load(
+            std::path::Path::new("cases/smoke.toml"),
+            &["projectile.velocity=800".into()],
+        )
+        .unwrap();
+        let mut sim = crate::solver::build(&scene, crate::scene::Backend::Gpu, None).unwrap();
+        let support = sim.sph.unwrap().kernel.support();
+        let mut checked = 0;
+        for step in 0..400 {
+            sim.step().unwrap();
+            let g = sim.gpu_step().unwrap();
+            // The next gathers' lists and positions: what the next step records first (its
+            // fixes applied again and the lists built again change nothing).
+            let build = g.lists_stale();
+            super::super::run_once(&g.gpu, |p| {
+                let sph = g.sph.as_ref().unwrap();
+                if let Some(c) = &sph.contact {
+                    c.record_apply(p, g.pending_fixes);
+                }
+                sph.neighbours.record(p, build);
+            })
+            .unwrap();
+            let sph = g.sph.as_ref().unwrap();
+            let n = sph.particles.len;
+            let kin: Vec<[f32; 4]> = g.gpu.read(&sph.grid.kin, n).unwrap();
+            let nbr: Vec<u32> = g.gpu.read(&sph.grid.nbr, NBR_MAX * n).unwrap();
+            let count: Vec<u32> = g.gpu.read(&sph.grid.nbr_count, n).unwrap();
+            for i in 0..n {
+                if count[i] as usize > NBR_MAX {
+                    continue;
+                }
+                let list: Vec<u32> = (0..count[i] as usize).map(|k| nbr[k * n + i]).collect();
+                for j in 0..n {
+                    for mirror in [false, true] {
+                        let dr = if mirror {
+                            kin[i][0] + kin[j][0]
+                        } else {
+                            kin[i][0] - kin[j][0]
+                        };
+                        let dz = kin[i][1] - kin[j][1];
+                        if (mirror || i != j) && dr * dr + dz * dz < support * support {
+                            let e = j as u32 | if mirror { 0x8000_0000 } else { 0 };
+                            assert!(
+                                list.contains(&e),
+                                "step {step}: particle {i} misses {j} (mirror {mirror}), built {}",
+                                g.builds
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+            g.built(build);
+        }
+        eprintln!("{checked} pairs checked");
+    }
 }

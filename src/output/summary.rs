@@ -33,6 +33,8 @@ pub struct Summary {
     pub min_dt_s: f64,
     pub max_dt_s: f64,
     pub max_slave_penetration_m: f64,
+    /// GPU runs: how many steps built the SPH neighbour lists (the rest reused them).
+    pub neighbour_list_builds: u64,
 }
 
 /// Energy account at the end of the run (J).
