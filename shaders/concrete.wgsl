@@ -14,7 +14,7 @@
 @group(0) @binding(8) var<storage, read> drho: array<f32>;
 @group(0) @binding(9) var<storage, read> de_visc: array<f32>;
 @group(0) @binding(10) var<storage, read_write> rho: array<f32>;
-@group(0) @binding(11) var<storage, read_write> energy: array<f32>;
+@group(0) @binding(11) var<storage, read_write> strain_energy: array<f32>;
 @group(0) @binding(12) var<storage, read_write> p: array<f32>;
 @group(0) @binding(13) var<storage, read_write> s_rr: array<f32>;
 @group(0) @binding(14) var<storage, read_write> s_zz: array<f32>;
@@ -77,5 +77,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         + (s.y - eos.p) * d_zz
         + 2.0 * s.z * d_rz
         + (s.w - eos.p) * d_tt;
-    energy[i] = energy[i] + dt * (0.5 * (old_power + new_power) / rho_new + de_visc[i]);
+    strain_energy[i] = strain_energy[i] + dt * (0.5 * (old_power + new_power) / rho_new + de_visc[i]);
 }

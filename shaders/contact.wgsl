@@ -87,7 +87,10 @@ fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
         // Material lies left of A -> B, so ABC is counter-clockwise.
         let d_ab = orient(a, b, p);
         if (d_ab < 0.0) { continue; }
-        if (orient(b, c, p) < 0.0 || orient(c, a, p) < 0.0) { continue; }
+        // Under AB, no deeper than C (the strip of AB: see the CPU twin).
+        let e = b - a;
+        let t = dot(p - a, e) / dot(e, e);
+        if (t < 0.0 || t > 1.0 || d_ab > orient(a, b, c)) { continue; }
         let depth = d_ab / length(b - a);
         if (best == 0xffffffffu || depth < best_depth) {
             best = m;

@@ -19,6 +19,9 @@
 // kinetic energy the wall took (J) in `lost`.
 @group(0) @binding(11) var<storage, read_write> impulse: array<f32>;
 @group(0) @binding(12) var<storage, read_write> lost: array<f32>;
+// Particles only: sph_forces' work-conjugate energy rate, and the energy it books into.
+@group(0) @binding(13) var<storage, read> de_work: array<f32>;
+@group(0) @binding(14) var<storage, read_write> energy: array<f32>;
 
 fn finite(x: f32) -> bool {
     // NaN fails every comparison; ±inf exceeds the largest f32.
@@ -38,7 +41,9 @@ fn particles(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n_particles) { return; }
     let dt = bitcast<f32>(atomicLoad(&clock.dt_bits));
+    var e = energy[i] + dt * de_work[i];
     if (flag[i] != 0u) {
+        energy[i] = e;
         // What the fixed particle would have gained from its neighbours is the boundary's
         // reaction on the rest (solver.rs: boundary_impulse).
         impulse[i] -= mass[i] * az[i] * dt;
@@ -46,14 +51,20 @@ fn particles(@builtin(global_invocation_id) gid: vec3<u32>) {
         vz[i] = 0.0;
         return;
     }
-    var pvr = vr[i] + dt * ar[i];
-    var pvz = vz[i] + dt * az[i];
+    let a = vec2<f32>(ar[i], az[i]);
+    var pvr = vr[i] + dt * a.x;
+    var pvz = vz[i] + dt * a.y;
     var pr = r[i] + dt * pvr;
     let pz = z[i] + dt * pvz;
+    var axis_lost = 0.0;
     if (pr < u.r_min) {
         pr = u.r_min;
-        pvr = max(pvr, 0.0);
+        let kept = max(pvr, 0.0);
+        axis_lost = 0.5 * (pvr * pvr - kept * kept);
+        pvr = kept;
     }
+    // The rest of the kinetic energy the step gave: ½ a² Δt², less what the axis took.
+    energy[i] = e + (axis_lost - 0.5 * dt * dt * (a.x * a.x + a.y * a.y));
     r[i] = pr;
     z[i] = pz;
     vr[i] = pvr;

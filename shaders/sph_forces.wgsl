@@ -2,7 +2,8 @@
 // neighbours and axis ghosts (physics.md §3): the symmetric planar pair term with
 // per-radian-area masses, a_i = Σ_j m̃_j [σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I (+ R_ij f_ij^n)] · ∇_i W_ij,
 // plus the hoop sources a_r += (S_rr − S_θθ)/(ρ r), a_z += S_rz/(ρ r); Monaghan–Gingold
-// viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled.
+// viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled, and the
+// work-conjugate energy rate (derived in the CPU twin's header).
 // Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
 // Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
 
@@ -32,6 +33,7 @@
 @group(0) @binding(20) var<storage, read_write> az: array<f32>;
 @group(0) @binding(21) var<storage, read_write> de_visc: array<f32>;
 @group(0) @binding(22) var<storage, read_write> mu_visc: array<f32>;
+@group(0) @binding(23) var<storage, read_write> de_work: array<f32>;
 
 // The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
 // constant, so a scene without it compiles without it (a branch not taken still costs on a
@@ -81,6 +83,8 @@ fn prologue(@builtin(global_invocation_id) gid: vec3<u32>) {
 // once: a driver may not hoist loads out of the loop, lavapipe does not).
 struct Gather {
     acc: vec2<f32>,
+    // Σ_j m̃_j r_j (T_ij ∇_i W_ij)·v_j: the neighbours' side of the pair work.
+    partner_power: f32,
     heat: f32,
     mu_max: f32,
     s: vec3<f32>,
@@ -100,7 +104,8 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     let sj = pj.xyz;
     var t = vec3<f32>(si.x + sj.x, si.y + sj.y, si.z + sign * sj.z);
 
-    let vj = kin[j].zw;
+    let kj = kin[j];
+    let vj = kj.zw;
     let dvr = (*g).v.x - sign * vj.x;
     let dvz = (*g).v.y - vj.y;
     let vx = dvr * d.x + dvz * d.y;
@@ -123,8 +128,9 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
         t.y += f * (ri_art.y + rj_art.y);
         t.z += f * (ri_art.z + sign * rj_art.z);
     }
-    (*g).acc.x += mj * (t.x * gw.x + t.z * gw.y);
-    (*g).acc.y += mj * (t.z * gw.x + t.y * gw.y);
+    let pair = vec2<f32>(mj * (t.x * gw.x + t.z * gw.y), mj * (t.z * gw.x + t.y * gw.y));
+    (*g).acc += pair;
+    (*g).partner_power += hoop_radius(kj.x, h) * (pair.x * sign * vj.x + pair.y * vj.y);
 }
 
 // Per particle: the gather over neighbours and axis ghosts (neighbour_loop.wgsl), then the
@@ -135,7 +141,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= u.n) { return; }
     let ki = kin[i];
     let ci = pair_c[i];
-    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw, ci.x,
+    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw, ci.x,
         ci.y);
     if (ART_STRESS) {
         g.art = vec3_of(art_stress[i]);
@@ -143,11 +149,11 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     for_each_neighbour(&g, i);
 
     let rr = hoop_radius(ki.x, u.kernel.h);
-    var acc = g.acc;
-    acc.x += (s_rr[i] - s_tt[i]) / (rho[i] * rr);
-    acc.y += s_rz[i] / (rho[i] * rr);
-    ar[i] = acc.x;
-    az[i] = acc.y;
+    let hoop = vec2<f32>((s_rr[i] - s_tt[i]) / (rho[i] * rr), s_rz[i] / (rho[i] * rr));
+    let own_power = rr * (g.acc.x * ki.z + g.acc.y * ki.w);
+    de_work[i] = -(own_power - g.partner_power) / (2.0 * rr) - (hoop.x * ki.z + hoop.y * ki.w);
+    ar[i] = g.acc.x + hoop.x;
+    az[i] = g.acc.y + hoop.y;
     de_visc[i] = g.heat;
     mu_visc[i] = g.mu_max;
 }

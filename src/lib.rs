@@ -16,4 +16,5 @@ pub mod mesh;
 pub mod output;
 pub mod scene;
 pub mod solver;
+pub mod stability;
 pub mod state;

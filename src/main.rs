@@ -65,6 +65,27 @@ enum Command {
         #[arg(long, default_value_t = 100)]
         steps: usize,
     },
+    /// Run the stability suite (stiff and extreme scenes, CPU and GPU) and write its table.
+    CheckStability {
+        /// Base scene the suite's scenes override.
+        #[arg(long, default_value = "cases/stability.toml")]
+        case: PathBuf,
+        /// Which paths: cpu, gpu, or auto (both, the GPU where an adapter is found).
+        #[arg(long, value_enum, default_value = "auto")]
+        backend: BackendArg,
+        /// GPU adapter (part of its name).
+        #[arg(long)]
+        adapter: Option<String>,
+        /// The quiescent scene for 10⁴ steps instead of 10⁵.
+        #[arg(long)]
+        quick: bool,
+        /// Only these scenes (comma-separated names from the table).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Output directory: stability.md and one run directory per scene and backend.
+        #[arg(long, default_value = "runs/stability")]
+        out: PathBuf,
+    },
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check {
         case: PathBuf,
@@ -85,6 +106,44 @@ enum BackendArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::CheckStability {
+            case,
+            backend,
+            adapter,
+            quick,
+            only,
+            out,
+        } => {
+            let backends = backends(backend, adapter.as_deref(), "check-stability");
+            let result = penetrate::stability::run(
+                &case,
+                &backends,
+                quick,
+                &only,
+                &out,
+                adapter.as_deref(),
+                |row| {
+                    eprintln!(
+                        "{} on {}: {}",
+                        row.case,
+                        row.backend,
+                        row.verdict(row.case == "quiescent")
+                    )
+                },
+            );
+            match result {
+                Ok(rows) => {
+                    let table = penetrate::stability::table(&rows);
+                    print!("{table}");
+                    let path = out.join("stability.md");
+                    if let Err(e) = std::fs::write(&path, &table) {
+                        return fail(3, &format!("{}: {e}", path.display()));
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(2, &format!("check-stability: {e}")),
+            }
+        }
         Command::Bench {
             case,
             sizes,
@@ -92,17 +151,7 @@ fn main() -> ExitCode {
             adapter,
             steps,
         } => {
-            let backends = match backend {
-                BackendArg::Cpu => vec![Backend::Cpu],
-                BackendArg::Gpu => vec![Backend::Gpu],
-                BackendArg::Auto => match penetrate::gpu::Gpu::new(adapter.as_deref()) {
-                    Ok(_) => vec![Backend::Gpu, Backend::Cpu],
-                    Err(e) => {
-                        eprintln!("penetrate bench: no GPU ({e}); timing the CPU path only");
-                        vec![Backend::Cpu]
-                    }
-                },
-            };
+            let backends = backends(backend, adapter.as_deref(), "bench");
             match penetrate::bench::run(
                 &case,
                 &sizes,
@@ -221,6 +270,21 @@ fn main() -> ExitCode {
                 Err(e) => fail(1, &e.to_string()),
             }
         }
+    }
+}
+
+/// The paths a multi-run command uses: `auto` is both where wgpu finds an adapter.
+fn backends(arg: BackendArg, adapter: Option<&str>, command: &str) -> Vec<Backend> {
+    match arg {
+        BackendArg::Cpu => vec![Backend::Cpu],
+        BackendArg::Gpu => vec![Backend::Gpu],
+        BackendArg::Auto => match penetrate::gpu::Gpu::new(adapter) {
+            Ok(_) => vec![Backend::Gpu, Backend::Cpu],
+            Err(e) => {
+                eprintln!("penetrate {command}: no GPU ({e}); the CPU path only");
+                vec![Backend::Cpu]
+            }
+        },
     }
 }
 

@@ -1117,7 +1117,7 @@ fn resolve(raw: RawScene, origin: &Path) -> Result<Scene, SceneError> {
             ))
         }
         (Some(t), None) => {
-            let t = resolve_target(&c, &t, &projectile, &contact)?;
+            let t = resolve_target(&c, &t, &projectile)?;
             let nose_z = 0.25 * t.spacing;
             (Some(t), None, nose_z)
         }
@@ -1126,19 +1126,23 @@ fn resolve(raw: RawScene, origin: &Path) -> Result<Scene, SceneError> {
     projectile.nose_z = match (raw.projectile.nose_z, &wall) {
         (None, _) => default_nose_z,
         (Some(z), None) => c.require(
-            z >= 0.0,
-            "projectile.nose_z",
-            z,
-            "must be ≥ 0 (m): the target's front face is z = 0 and the nose may not start \
-             inside it",
-        )?,
-        (Some(z), Some(w)) => c.require(
-            z >= w.z,
+            (0.0..=MAX_START_GAP).contains(&z),
             "projectile.nose_z",
             z,
             &format!(
-                "must be ≥ wall.z = {} (m): the bar may not start inside the wall",
-                num(w.z)
+                "must be in [0, {MAX_START_GAP}] (m): the target's front face is z = 0, the nose \
+                 may not start inside it, and f32 positions lose resolution far from it"
+            ),
+        )?,
+        (Some(z), Some(w)) => c.require(
+            z >= w.z && z - w.z <= MAX_START_GAP,
+            "projectile.nose_z",
+            z,
+            &format!(
+                "must be in [wall.z, wall.z + {MAX_START_GAP}] = [{}, {}] (m): the bar may not \
+                 start inside the wall, nor far from it",
+                num(w.z),
+                num(w.z + MAX_START_GAP)
             ),
         )?,
     };
@@ -1226,6 +1230,9 @@ fn ogive_nose_length(diameter: f64, crh: f64) -> f64 {
     0.5 * diameter * (4.0 * crh - 1.0).sqrt()
 }
 
+/// Largest gap between the nose and the target's face or the wall at the start (m).
+const MAX_START_GAP: f64 = 1.0;
+
 /// Resolves `[projectile]`; `nose_z` is left at 0 for [`resolve`] to set.
 fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, SceneError> {
     let diameter = c.positive("projectile.diameter", p.diameter, "m")?;
@@ -1280,11 +1287,11 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
         ),
     )?;
     c.require(
-        p.velocity > 0.0 && p.velocity <= 5000.0,
+        p.velocity >= 0.0 && p.velocity <= 5000.0,
         "projectile.velocity",
         p.velocity,
-        "must be in (0, 5000] (m/s): the striking speed, positive (flight is along −z); the \
-         material models are not meant beyond 5 km/s",
+        "must be in [0, 5000] (m/s): the striking speed, not negative (flight is along −z); \
+         the material models are not meant beyond 5 km/s",
     )?;
     let cavity = match &p.cavity {
         None => None,
@@ -1489,7 +1496,6 @@ fn resolve_target(
     c: &Check,
     t: &RawTarget,
     projectile: &ProjectileSpec,
-    contact: &ContactSpec,
 ) -> Result<TargetSpec, SceneError> {
     let radius = c.positive("target.radius", t.radius, "m")?;
     let thickness = c.positive("target.thickness", t.thickness, "m")?;
@@ -1516,17 +1522,6 @@ fn resolve_target(
             ),
         )?;
     }
-    let slave_radius = 0.5 * projectile.diameter * contact.slave_radius_factor;
-    c.require(
-        slave_radius < radius,
-        "target.radius",
-        radius,
-        &format!(
-            "must exceed projectile.diameter·contact.slave_radius_factor/2 = {} m: the projectile \
-             is larger than the target; widen the target",
-            approx(slave_radius)
-        ),
-    )?;
     let smoothing_ratio = t.smoothing_ratio.unwrap_or(1.5);
     c.require(
         (1.0..=3.0).contains(&smoothing_ratio),

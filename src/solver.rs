@@ -78,7 +78,12 @@ pub struct Account {
     /// z-impulse exerted on the model by fixed boundaries and the wall (N s).
     pub boundary_impulse: f64,
     pub plastic_work: f64,
+    /// Deepest slave penetration the contact found (before correcting it), m.
     pub max_penetration: f32,
+    /// Most slaves found inside the projectile after a step's correction, and the deepest of
+    /// them (m), over the checks at history rows and the end (`check_slaves_inside`).
+    pub slaves_inside: usize,
+    pub max_residual_penetration: f32,
     pub min_dt: f64,
     pub max_dt: f64,
 }
@@ -503,6 +508,14 @@ impl Simulation {
             .sum()
     }
 
+    /// The target's energy as the integrated strain power (`Particles::strain_energy`), J.
+    pub fn strain_energy_target(&self) -> f64 {
+        let p = &self.particles;
+        (0..p.len())
+            .map(|i| p.mass[i] as f64 * p.strain_energy[i] as f64)
+            .sum()
+    }
+
     pub fn internal_projectile(&self) -> f64 {
         let e = &self.projectile.elements;
         (0..e.len())
@@ -599,6 +612,54 @@ impl Simulation {
             }
         }
         None
+    }
+
+    /// Non-finite values in the state: positions, velocities, density, energy, pressure and
+    /// deviator of the particles; positions and velocities of the nodes; stresses and energy
+    /// of the elements.
+    pub fn nonfinite_values(&self) -> usize {
+        let p = &self.particles;
+        let n = &self.projectile.nodes;
+        let e = &self.projectile.elements;
+        let fields: [&[f32]; 20] = [
+            &p.r, &p.z, &p.vr, &p.vz, &p.rho, &p.energy, &p.p, &p.s_rr, &p.s_zz, &p.s_rz, &p.s_tt,
+            &n.r, &n.z, &n.vr, &n.vz, &e.s_rr, &e.s_zz, &e.s_rz, &e.p, &e.energy,
+        ];
+        fields
+            .iter()
+            .map(|f| f.iter().filter(|x| !x.is_finite()).count())
+            .sum()
+    }
+
+    /// Largest speed of a particle or node (m/s).
+    pub fn max_speed(&self) -> f64 {
+        let p = &self.particles;
+        let n = &self.projectile.nodes;
+        let speed = |vr: &[f32], vz: &[f32]| {
+            vr.iter()
+                .zip(vz)
+                .fold(0.0f32, |m, (a, b)| m.max(a.hypot(*b)))
+        };
+        speed(&p.vr, &p.vz).max(speed(&n.vr, &n.vz)) as f64
+    }
+
+    /// Count the slaves left inside the projectile (beyond 10⁻⁴ of an element: round-off of
+    /// the correction's projection) and book the worst in the account.
+    pub fn check_slaves_inside(&mut self) {
+        if self.slaves.is_empty() {
+            return;
+        }
+        let tol = 1.0e-4 * self.scene.projectile.element_size as f32;
+        let (n, depth) = cpu::contact_detect::inside(
+            &self.slaves,
+            &self.particles,
+            &self.projectile.nodes,
+            &self.projectile.masters,
+            tol,
+        );
+        let a = &mut self.account;
+        a.slaves_inside = a.slaves_inside.max(n);
+        a.max_residual_penetration = a.max_residual_penetration.max(depth);
     }
 
     fn history_row(&self) -> Row {
@@ -717,6 +778,7 @@ impl Simulation {
                 kinetic: self.kinetic_energy(),
                 internal_projectile: self.internal_projectile(),
                 internal_target: self.internal_target(),
+                strain_energy_target: self.strain_energy_target(),
                 plastic_work_projectile: a.plastic_work,
                 contact_dissipated: a.contact_dissipated,
                 wall_dissipated: a.wall_dissipated,
@@ -725,6 +787,10 @@ impl Simulation {
             min_dt_s: if a.min_dt == f64::MAX { 0.0 } else { a.min_dt },
             max_dt_s: a.max_dt,
             max_slave_penetration_m: a.max_penetration as f64,
+            slaves_inside: a.slaves_inside,
+            nonfinite_values: self.nonfinite_values(),
+            max_speed_m_s: self.max_speed(),
+            max_residual_penetration_m: a.max_residual_penetration as f64,
             neighbour_list_builds: self.gpu.as_ref().map_or(0, |g| g.builds),
         }
     }
@@ -883,6 +949,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             break (e.to_string(), String::new(), false);
         }
         if sim.time >= next_history {
+            sim.check_slaves_inside();
             history.write(&sim.history_row()).map_err(io)?;
             next_history += scene.run.history_interval;
             progress.update(sim.time, sim.step, sim.depth(), sim.projectile_velocity());
@@ -900,6 +967,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         // Keep what stopped the run first.
         Err(e) => (format!("{status}; then {e}"), reason, false),
     };
+    sim.check_slaves_inside();
     history.write(&sim.history_row()).map_err(io)?;
     history.flush().map_err(io)?;
     if opts.vtk {

@@ -18,8 +18,13 @@ pub struct Particles {
     pub az: Vec<f32>,
     pub mass: Vec<f32>,
     pub rho: Vec<f32>,
-    /// Specific internal energy (J/kg).
+    /// Specific internal energy (J/kg): the work the particle forces have done, split pairwise
+    /// (`sph_forces`, booked by `integrate`), so that it is the exact counterpart of the motion.
     pub energy: Vec<f32>,
+    /// The same energy as the strain power `σ:ε̇/ρ` of the corrected velocity gradient plus the
+    /// viscous heating (physics.md §3), integrated by `concrete`: a diagnostic only (HJC's
+    /// pressure does not depend on the energy), reported beside the account.
+    pub strain_energy: Vec<f32>,
     /// Pressure (Pa, compression positive).
     pub p: Vec<f32>,
     /// Stress deviator S_rr, S_zz, S_rz, S_θθ (Pa).
@@ -42,6 +47,8 @@ pub struct Particles {
     pub drho: Vec<f32>,
     /// Viscous heating rate (W/kg) and the largest viscosity μ_ij, from `sph_forces`.
     pub de_visc: Vec<f32>,
+    /// Rate of the work-conjugate energy (W/kg), from `sph_forces`, at its velocities.
+    pub de_work: Vec<f32>,
     pub mu_visc: Vec<f32>,
     /// Per-radian-area mass m̃ = m/(2π r) and planar area m̃/ρ, from `sph_rates`.
     pub m_tilde: Vec<f32>,
@@ -86,6 +93,7 @@ impl Particles {
             mass: lattice.mass.clone(),
             rho: vec![concrete.density; n],
             energy: zero.clone(),
+            strain_energy: zero.clone(),
             p: zero.clone(),
             s_rr: zero.clone(),
             s_zz: zero.clone(),
@@ -101,6 +109,7 @@ impl Particles {
             l_zz: zero.clone(),
             drho: zero.clone(),
             de_visc: zero.clone(),
+            de_work: zero.clone(),
             mu_visc: zero.clone(),
             m_tilde: zero.clone(),
             area: zero,

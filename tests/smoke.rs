@@ -220,3 +220,38 @@ fn same_bits_on_one_and_two_threads() {
     };
     assert!(run(1) == run(2), "results differ between 1 and 2 threads");
 }
+
+/// `check-stability` on two of its hardest scenes, CPU path: both complete with the energy
+/// account closed to 1 % of the impact energy, no slave left inside the projectile and no
+/// non-finite value, and the table names them.
+#[test]
+fn stability_suite_runs_and_closes_the_energy() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("stability");
+    let out = std::process::Command::new(bin)
+        .args(["check-stability", "--backend", "cpu", "--quick", "--only"])
+        .arg("v2500,lambda1")
+        .arg("--case")
+        .arg(case("stability.toml"))
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = std::fs::read_to_string(dir.join("stability.md")).unwrap();
+    for name in ["v2500", "lambda1"] {
+        assert!(table.contains(&format!("| {name} | cpu |")), "{table}");
+        let text = std::fs::read_to_string(dir.join(format!("{name}-cpu/summary.json"))).unwrap();
+        let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(s["status"], "completed", "{name}: {text}");
+        let energy = s["energy_error"].as_f64().unwrap();
+        assert!(energy.abs() < 0.01, "{name}: energy error {energy}");
+        assert_eq!(s["slaves_inside"], 0, "{name}");
+        assert_eq!(s["nonfinite_values"], 0, "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

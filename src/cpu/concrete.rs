@@ -1,6 +1,6 @@
 //! `concrete`: per particle, the HJC update (physics.md §3.1) in the OpenRadioss LAW126 order:
 //! density from continuity, EOS with crushing, trial deviator (Jaumann), strength with the new
-//! pressure and the old damage, radial scaling, damage from Δε_p + Δμ_p; then the energy.
+//! pressure and the old damage, radial scaling, damage from Δε_p + Δμ_p; then the strain-power energy (`Particles::strain_energy`).
 
 use rayon::prelude::*;
 
@@ -16,7 +16,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
         r,
         vr,
         rho,
-        energy,
+        strain_energy,
         p,
         s_rr,
         s_zz,
@@ -37,7 +37,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
     let (r, vr, l_rr, l_rz, l_zr, l_zz, drho, de_visc) =
         (&*r, &*vr, &*l_rr, &*l_rz, &*l_zr, &*l_zz, &*drho, &*de_visc);
     rho.par_iter_mut()
-        .zip(energy.par_iter_mut())
+        .zip(strain_energy.par_iter_mut())
         .zip(p.par_iter_mut())
         .zip(s_rr.par_iter_mut())
         .zip(s_zz.par_iter_mut())
@@ -88,7 +88,8 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 *stt = s[3];
                 *snd = hjc::sound_speed(c, eos.tangent);
 
-                // ė = σ:ε̇/ρ (θθ included), trapezoidal in the stress, plus viscous heating.
+                // ė = σ:ε̇/ρ (θθ included), trapezoidal in the stress, plus viscous heating: the
+                // diagnostic estimate; the account's energy is booked by `integrate`.
                 let new_power = (s[0] - eos.p) * d_rr
                     + (s[1] - eos.p) * d_zz
                     + 2.0 * s[2] * d_rz

@@ -16,7 +16,10 @@ pub struct Blowup {
 }
 
 /// Advance particles over `dt`: v += a dt (zero for fixed particles), x += v dt, keep them
-/// ≥ 0.1 h off the axis. Fails on a non-finite value or a particle beyond `escape` of the origin.
+/// ≥ 0.1 h off the axis. Book the energy: `sph_forces`' work rate at the old velocities, less
+/// the rest of the kinetic energy the step gave (½ a² Δt², and what the axis took), so that the
+/// particles' energy changes by exactly what their kinetic energy did not. Fails on a
+/// non-finite value or a particle beyond `escape` of the origin.
 pub fn particles(
     p: &mut Particles,
     params: &SphParams,
@@ -31,17 +34,21 @@ pub fn particles(
         vz,
         ar,
         az,
+        energy,
+        de_work,
         fixed,
         ..
     } = p;
-    let (ar, az, fixed) = (&*ar, &*az, &*fixed);
+    let (ar, az, de_work, fixed) = (&*ar, &*az, &*de_work, &*fixed);
     let bad = r
         .par_iter_mut()
         .zip(z.par_iter_mut())
         .zip(vr.par_iter_mut())
         .zip(vz.par_iter_mut())
+        .zip(energy.par_iter_mut())
         .enumerate()
-        .map(|(i, (((r, z), vr), vz))| {
+        .map(|(i, ((((r, z), vr), vz), e))| {
+            *e += dt * de_work[i];
             if fixed[i] != 0 {
                 *vr = 0.0;
                 *vz = 0.0;
@@ -51,10 +58,14 @@ pub fn particles(
             *vz += dt * az[i];
             *r += dt * *vr;
             *z += dt * *vz;
+            let mut axis_lost = 0.0;
             if *r < r_min {
                 *r = r_min;
-                *vr = vr.max(0.0);
+                let kept = vr.max(0.0);
+                axis_lost = 0.5 * (*vr * *vr - kept * kept);
+                *vr = kept;
             }
+            *e += axis_lost - 0.5 * dt * dt * (ar[i] * ar[i] + az[i] * az[i]);
             check("particle", i, *r, *z, *vr, *vz, escape)
         })
         .find_first(|b| b.is_some())

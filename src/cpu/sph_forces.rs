@@ -3,6 +3,14 @@
 //! `a_i = Σ_j m̃_j [σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I (+ R_ij f_ij^n)] · ∇_i W_ij`, plus the hoop
 //! sources `a_r += (S_rr − S_θθ)/(ρ r)`, `a_z += S_rz/(ρ r)`. Monaghan–Gingold viscosity Π_ij
 //! with its heating, Gray–Monaghan artificial stress R when enabled.
+//!
+//! The work-conjugate energy rate. With ring masses m = 2π r m̃ the pair term is a force
+//! `2π r_i P_ij` on ring i, `P_ij = m̃_i m̃_j T_ij ∇_i W_ij = −P_ji`. The power of all forces,
+//! `Σ_i m_i v_i·a_i`, is then `Σ_i [π Σ_j P_ij·(r_i v_i − r_j v_j) + m_i v_i·h_i]` (h the hoop
+//! source), so `ė_i = −(r_i v_i·a_i^pair − Σ_j m̃_j r_j (T_ij ∇_i W_ij)·v_j)/(2 r_i) − v_i·h_i`
+//! gives each particle half of each pair's work (Galilean invariant to the discretisation
+//! error) and the particles together exactly what their motion lost. Viscosity and artificial
+//! stress are in T and so in it. A mirror ghost enters with its mirrored velocity.
 
 use rayon::prelude::*;
 
@@ -32,6 +40,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         s_tt,
         sound,
         de_visc,
+        de_work,
         mu_visc,
         m_tilde,
         stress_rho2,
@@ -77,12 +86,15 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     ar.par_iter_mut()
         .zip(az.par_iter_mut())
         .zip(de_visc.par_iter_mut())
+        .zip(de_work.par_iter_mut())
         .zip(mu_visc.par_iter_mut())
         .enumerate()
-        .for_each(|(i, (((ar, az), de), mu_out))| {
+        .for_each(|(i, ((((ar, az), de), work), mu_out))| {
             let si = sigma[i];
             let ri_art = art[i];
             let mut acc = [0.0f32; 2];
+            // Σ_j m̃_j r_j (T_ij ∇_i W_ij)·v_j, the neighbours' side of the pair work.
+            let mut partner_power = 0.0f32;
             let mut heat = 0.0f32;
             let mut mu_max = 0.0f32;
             for_each_neighbour(grid, r, z, i, support, |nb| {
@@ -113,14 +125,20 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                     t[1] += f * (ri_art[1] + rj[1]);
                     t[2] += f * (ri_art[2] + sign * rj[2]);
                 }
-                acc[0] += mj * (t[0] * gw[0] + t[2] * gw[1]);
-                acc[1] += mj * (t[2] * gw[0] + t[1] * gw[1]);
+                let pair = [
+                    mj * (t[0] * gw[0] + t[2] * gw[1]),
+                    mj * (t[2] * gw[0] + t[1] * gw[1]),
+                ];
+                acc[0] += pair[0];
+                acc[1] += pair[1];
+                partner_power += hoop_radius(r[j], h) * (pair[0] * sign * vr[j] + pair[1] * vz[j]);
             });
             let rr = hoop_radius(r[i], h);
-            acc[0] += (s_rr[i] - s_tt[i]) / (rho[i] * rr);
-            acc[1] += s_rz[i] / (rho[i] * rr);
-            *ar = acc[0];
-            *az = acc[1];
+            let hoop = [(s_rr[i] - s_tt[i]) / (rho[i] * rr), s_rz[i] / (rho[i] * rr)];
+            let own_power = rr * (acc[0] * vr[i] + acc[1] * vz[i]);
+            *work = -(own_power - partner_power) / (2.0 * rr) - (hoop[0] * vr[i] + hoop[1] * vz[i]);
+            *ar = acc[0] + hoop[0];
+            *az = acc[1] + hoop[1];
             *de = heat;
             *mu_out = mu_max;
         });

@@ -51,7 +51,7 @@ impl ConcretePass {
                 &p.drho,
                 &p.de_visc,
                 &p.rho,
-                &p.energy,
+                &p.strain_energy,
                 &p.p,
                 &p.s_rr,
                 &p.s_zz,
@@ -359,7 +359,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let before = &sim.particles;
         for (name, a, b, start, tol) in [
             ("rho", &back.rho, &cpu.rho, &before.rho, 1.0e-6),
-            ("energy", &back.energy, &cpu.energy, &before.energy, 1.0e-5),
+            (
+                "strain_energy",
+                &back.strain_energy,
+                &cpu.strain_energy,
+                &before.strain_energy,
+                1.0e-5,
+            ),
             ("damage", &back.damage, &cpu.damage, &before.damage, 1.0e-5),
             ("mu_max", &back.mu_max, &cpu.mu_max, &before.mu_max, 1.0e-6),
             ("eps_p", &back.eps_p, &cpu.eps_p, &before.eps_p, 1.0e-5),

@@ -65,8 +65,9 @@ pub struct Accumulators {
     pub node_impulse: wgpu::Buffer,
     /// Kinetic energy the wall took, per node (J).
     pub node_lost: wgpu::Buffer,
-    /// Stand-in for the particles' `lost` binding (never written).
-    pub particle_lost: wgpu::Buffer,
+    /// One-element stand-ins for the bindings an entry point does not use (never written):
+    /// the particles' `lost`, the nodes' `energy` and `de_work`.
+    pub unused: [wgpu::Buffer; 2],
 }
 
 impl Accumulators {
@@ -75,7 +76,7 @@ impl Accumulators {
             particle_impulse: gpu.zeros::<f32>("particle impulse", n_particles),
             node_impulse: gpu.zeros::<f32>("node impulse", n_nodes),
             node_lost: gpu.zeros::<f32>("node wall loss", n_nodes),
-            particle_lost: gpu.zeros::<f32>("unused", 1),
+            unused: [gpu.zeros::<f32>("unused", 1), gpu.zeros::<f32>("unused", 1)],
         }
     }
 }
@@ -85,6 +86,8 @@ const INTEGRATE_SLOTS: &[(Slot, usize)] = &[
     (Slot::ReadWrite, 6),
     (Slot::Read, 4),
     (Slot::ReadWrite, 2),
+    (Slot::Read, 1),
+    (Slot::ReadWrite, 1),
 ];
 
 const TIMESTEP_SLOTS: &[(Slot, usize)] =
@@ -130,7 +133,9 @@ impl IntegratePass {
                         &p.mass,
                         &p.fixed,
                         &acc.particle_impulse,
-                        &acc.particle_lost,
+                        &acc.unused[0],
+                        &p.de_work,
+                        &p.energy,
                     ],
                 );
                 let kd = timestep("particle_dt")?;
@@ -157,6 +162,8 @@ impl IntegratePass {
                 &n.on_axis,
                 &acc.node_impulse,
                 &acc.node_lost,
+                &acc.unused[1],
+                &acc.unused[0],
             ],
         );
         let element_dt = match elements {
@@ -298,6 +305,7 @@ mod tests {
             ("z", &back.z, &cpu.z),
             ("vr", &back.vr, &cpu.vr),
             ("vz", &back.vz, &cpu.vz),
+            ("energy", &back.energy, &cpu.energy),
             ("node r", &back_nodes.r, &nodes.r),
             ("node z", &back_nodes.z, &nodes.z),
             ("node vr", &back_nodes.vr, &nodes.vr),

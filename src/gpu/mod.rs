@@ -31,7 +31,7 @@ pub const FOLD: u32 = 32;
 
 /// Storage buffers the widest passes bind at once (sph_forces and fem_stress: 22 each); the
 /// adapter must allow this many per shader stage.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 22;
+pub const STORAGE_BUFFERS_NEEDED: u32 = 23;
 
 /// An adapter as `penetrate adapters` lists it.
 #[derive(Clone, Debug)]

@@ -8,11 +8,11 @@ use super::{source, Gpu, Kernel, Slot};
 /// (GridInfo, cell_start, sorted), kin and the lists, 8 read fields, then what `prologue`
 /// writes for `forces` (stress_rho2, art_stress, pair_s, pair_c) and the four outputs of
 /// `forces`.
-const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 14), (Slot::ReadWrite, 8)];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 14), (Slot::ReadWrite, 9)];
 
 /// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
 /// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
-/// and axis ghosts and writes ar, az, de_visc and mu_visc (fixed particles included, as on
+/// and axis ghosts and writes ar, az, de_visc, mu_visc and de_work (fixed particles included, as on
 /// the CPU).
 pub struct SphForcesPass {
     prologue: Kernel,
@@ -69,6 +69,7 @@ impl SphForcesPass {
             &p.az,
             &p.de_visc,
             &p.mu_visc,
+            &p.de_work,
         ];
         Ok(SphForcesPass {
             prologue_bind: prologue.bind(gpu, &buffers),
@@ -109,6 +110,7 @@ mod tests {
             &mut start.ar,
             &mut start.az,
             &mut start.de_visc,
+            &mut start.de_work,
             &mut start.mu_visc,
         ] {
             v.fill(f32::NAN);
@@ -141,6 +143,7 @@ mod tests {
             ("ar", back.ar.clone(), cpu.ar.clone()),
             ("az", back.az.clone(), cpu.az.clone()),
             ("de_visc", back.de_visc.clone(), cpu.de_visc.clone()),
+            ("de_work", back.de_work.clone(), cpu.de_work.clone()),
             ("mu_visc", back.mu_visc.clone(), cpu.mu_visc.clone()),
         ];
         for k in 0..3 {

@@ -36,8 +36,9 @@ macro_rules! mirror {
 
 mirror!(GpuParticles, Particles, len = r, [
     r: f32, z: f32, vr: f32, vz: f32, ar: f32, az: f32, mass: f32, rho: f32, energy: f32,
+    strain_energy: f32,
     p: f32, s_rr: f32, s_zz: f32, s_rz: f32, s_tt: f32, damage: f32, mu_max: f32, eps_p: f32,
-    sound: f32, l_rr: f32, l_rz: f32, l_zr: f32, l_zz: f32, drho: f32, de_visc: f32,
+    sound: f32, l_rr: f32, l_rz: f32, l_zr: f32, l_zz: f32, drho: f32, de_visc: f32, de_work: f32,
     mu_visc: f32, m_tilde: f32, area: f32, stress_rho2: [f32; 3], art_stress: [f32; 3],
     fixed: u32,
 ]);
@@ -78,6 +79,7 @@ mod tests {
             &mut p.mass,
             &mut p.rho,
             &mut p.energy,
+            &mut p.strain_energy,
             &mut p.p,
             &mut p.s_rr,
             &mut p.s_zz,
@@ -93,6 +95,7 @@ mod tests {
             &mut p.l_zz,
             &mut p.drho,
             &mut p.de_visc,
+            &mut p.de_work,
             &mut p.mu_visc,
             &mut p.m_tilde,
             &mut p.area,

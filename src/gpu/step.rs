@@ -603,8 +603,9 @@ impl GpuStep {
 
     /// Finish the step and read the state back into the CPU structures, with the accumulated
     /// boundary impulse, wall loss and plastic work (sums over entities, f64), and the next Δt.
-    /// `Sync::Full` reads every field; `Sync::History` only what a history row needs (the
-    /// particles' velocities and energies, the projectile), a tenth of the bytes.
+    /// `Sync::Full` reads every field; `Sync::History` only what a history row and the check
+    /// for slaves left inside need (the particles' positions, velocities and energies, the
+    /// projectile), a sixth of the bytes.
     pub fn download(
         &mut self,
         particles: &mut Particles,
@@ -618,6 +619,8 @@ impl GpuStep {
                 Sync::Full => s.particles.download(g, particles)?,
                 Sync::History => {
                     let n = particles.len();
+                    particles.r = g.read(&s.particles.r, n)?;
+                    particles.z = g.read(&s.particles.z, n)?;
                     particles.vr = g.read(&s.particles.vr, n)?;
                     particles.vz = g.read(&s.particles.vz, n)?;
                     particles.energy = g.read(&s.particles.energy, n)?;

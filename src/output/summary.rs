@@ -32,7 +32,16 @@ pub struct Summary {
     pub passes: Vec<String>,
     pub min_dt_s: f64,
     pub max_dt_s: f64,
+    /// Deepest slave penetration the contact detected and corrected (m).
     pub max_slave_penetration_m: f64,
+    /// Most slaves left inside the projectile after a step's correction (checked at every
+    /// history row and at the end; it should be 0), and how deep the deepest was (m).
+    pub slaves_inside: usize,
+    pub max_residual_penetration_m: f64,
+    /// Non-finite values in the final state (`Simulation::nonfinite_values`).
+    pub nonfinite_values: usize,
+    /// Largest speed of a particle or node at the end (m/s).
+    pub max_speed_m_s: f64,
     /// GPU runs: how many steps built the SPH neighbour lists (the rest reused them).
     pub neighbour_list_builds: u64,
 }
@@ -43,7 +52,12 @@ pub struct EnergySummary {
     pub initial_kinetic: f64,
     pub kinetic: f64,
     pub internal_projectile: f64,
+    /// The work the particle forces did, split pairwise (the account's term).
     pub internal_target: f64,
+    /// The same as the integrated strain power σ:ε̇ of the corrected velocity gradient, with
+    /// viscous heating: not in the account; its distance from `internal_target` is the SPH
+    /// discretisation's mismatch between strain rate and force.
+    pub strain_energy_target: f64,
     pub plastic_work_projectile: f64,
     pub contact_dissipated: f64,
     pub wall_dissipated: f64,
