@@ -122,14 +122,7 @@ fn main() -> ExitCode {
                 &only,
                 &out,
                 adapter.as_deref(),
-                |row| {
-                    eprintln!(
-                        "{} on {}: {}",
-                        row.case,
-                        row.backend,
-                        row.verdict(row.case == "quiescent")
-                    )
-                },
+                |row| eprintln!("{} on {}: {}", row.case, row.backend, row.verdict()),
             );
             match result {
                 Ok(rows) => {

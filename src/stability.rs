@@ -212,7 +212,8 @@ pub struct Row {
 
 impl Row {
     /// "pass", or what failed.
-    pub fn verdict(&self, quiescent: bool) -> String {
+    pub fn verdict(&self) -> String {
+        let quiescent = self.case == "quiescent";
         let s = match &self.outcome {
             Ok(s) => s,
             Err(e) => return format!("refused: {e}"),
@@ -325,7 +326,7 @@ pub fn table(rows: &[Row]) -> String {
          wall (s) | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
-        let verdict = r.verdict(r.case == "quiescent");
+        let verdict = r.verdict();
         match &r.outcome {
             Ok(s) => t += &format!(
                 "| {} | {} | {} | {:.2e}–{:.2e} | {:.2e} | {:.2e} | {:.1e} | {} | {} | {:.2} | {:.4} | {:.1} | {} |\n",

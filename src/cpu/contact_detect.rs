@@ -25,6 +25,20 @@ fn bounds(nodes: &Nodes, margin: f32) -> [f32; 3] {
     [r_max + margin, z_min - margin, z_max + margin]
 }
 
+/// The slaves inside the projectile's bounding box, with their positions (collected, they
+/// keep slave order).
+fn in_box<'a>(
+    slaves: &'a [u32],
+    particles: &'a Particles,
+    nodes: &Nodes,
+) -> impl ParallelIterator<Item = (u32, f32, f32)> + 'a {
+    let [r_max, z_min, z_max] = bounds(nodes, 0.0);
+    slaves.par_iter().filter_map(move |&s| {
+        let (pr, pz) = (particles.r[s as usize], particles.z[s as usize]);
+        (pr <= r_max && pz >= z_min && pz <= z_max).then_some((s, pr, pz))
+    })
+}
+
 /// Twice the signed area of (a, b, p): positive when p is left of a → b.
 #[inline]
 fn orient(ar: f32, az: f32, br: f32, bz: f32, pr: f32, pz: f32) -> f32 {
@@ -37,15 +51,9 @@ pub fn run(
     nodes: &Nodes,
     masters: &[MasterSegment],
 ) -> Vec<Hit> {
-    let [r_max, z_min, z_max] = bounds(nodes, 0.0);
     let (nr, nz) = (&nodes.r, &nodes.z);
-    slaves
-        .par_iter()
-        .filter_map(|&s| {
-            let (pr, pz) = (particles.r[s as usize], particles.z[s as usize]);
-            if pr > r_max || pz < z_min || pz > z_max {
-                return None;
-            }
+    in_box(slaves, particles, nodes)
+        .filter_map(|(s, pr, pz)| {
             let mut best: Option<(f32, u32)> = None;
             for (k, m) in masters.iter().enumerate() {
                 let (a, b, c) = (m.a as usize, m.b as usize, m.c as usize);
@@ -82,15 +90,9 @@ pub fn inside(
     masters: &[MasterSegment],
     tol: f32,
 ) -> (usize, f32) {
-    let [r_max, z_min, z_max] = bounds(nodes, 0.0);
     let (nr, nz) = (&nodes.r, &nodes.z);
-    slaves
-        .par_iter()
-        .filter_map(|&s| {
-            let (pr, pz) = (particles.r[s as usize], particles.z[s as usize]);
-            if pr > r_max || pz < z_min || pz > z_max {
-                return None;
-            }
+    in_box(slaves, particles, nodes)
+        .filter_map(|(_, pr, pz)| {
             // Even-odd rule along +r; the axis closes the chain and a ray along +r never
             // crosses it.
             let mut crossings = 0u32;
