@@ -1,9 +1,9 @@
 // `sph_forces` (CPU twin: src/cpu/sph_forces.rs): particle accelerations gathered over
-// neighbours and axis ghosts (physics.md §3): the symmetric planar pair term with
-// per-radian-area masses, a_i = Σ_j m̃_j [σ_i/ρ_i² + σ_j/ρ_j² − Π_ij I (+ R_ij f_ij^n)] · ∇_i W_ij,
-// plus the hoop sources a_r += (S_rr − S_θθ)/(ρ r), a_z += S_rz/(ρ r); Monaghan–Gingold
-// viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled, and the
-// work-conjugate energy rate (derived in the CPU twin's header).
+// neighbours and axis ghosts (physics.md §3) in the momentum-conserving ring-mass form derived
+// in the CPU twin's header: a_i = (1/r_i) Σ_j m̃_j [w_i σ_i/ρ_i² + w_j σ_j/ρ_j² − r̄_ij Π_ij I
+// (+ R_ij f_ij^n)] · ∇_i W_ij with w = r for a neighbour and −r for a mirror ghost pair, plus the
+// hoop source a_r += −σ_θθ n_i/(ρ r); Monaghan–Gingold viscosity Π_ij with its heating,
+// Gray–Monaghan artificial stress R when enabled, and the work-conjugate energy rate.
 // Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
 // Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
 
@@ -83,8 +83,10 @@ fn prologue(@builtin(global_invocation_id) gid: vec3<u32>) {
 // once: a driver may not hoist loads out of the loop, lavapipe does not).
 struct Gather {
     acc: vec2<f32>,
-    // Σ_j m̃_j r_j (T_ij ∇_i W_ij)·v_j: the neighbours' side of the pair work.
-    partner_power: f32,
+    // Σ_j m̃_j (T_ij ∇_i W_ij)·(v_i − v_j): the pair work, over 2π m̃_i.
+    pair_power: f32,
+    // Σ_j m̃_j (w_i + w_j) ∂_r W_ij = ρ_i n_i: the hoop source's weight.
+    hoop_weight: f32,
     heat: f32,
     mu_max: f32,
     s: vec3<f32>,
@@ -92,6 +94,8 @@ struct Gather {
     v: vec2<f32>,
     sound: f32,
     rho: f32,
+    // hoop_radius(r_i)
+    ri: f32,
 }
 
 // The pair term of neighbour j (its mirror image when sign = −1) at separation d = x_i − x_j.
@@ -102,9 +106,15 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     let gw = kernel_grad(u.kernel, d, dist);
     let si = (*g).s;
     let sj = pj.xyz;
-    var t = vec3<f32>(si.x + sj.x, si.y + sj.y, si.z + sign * sj.z);
-
     let kj = kin[j];
+    let ri = (*g).ri;
+    let rj = hoop_radius(kj.x, h);
+    // w = ±r: a mirror ghost pair is weighted −r on both sides.
+    let wi = sign * ri;
+    let wj = sign * rj;
+    var t = vec3<f32>(wi * si.x + wj * sj.x, wi * si.y + wj * sj.y, wi * si.z + wj * sign * sj.z);
+    (*g).hoop_weight += mj * (wi + wj) * gw.x;
+
     let vj = kj.zw;
     let dvr = (*g).v.x - sign * vj.x;
     let dvz = (*g).v.y - vj.y;
@@ -114,46 +124,45 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
         let cj = pair_c[j];
         let c_mean = 0.5 * ((*g).sound + cj.x);
         let rho_mean = 0.5 * ((*g).rho + cj.y);
-        let pi = (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
+        let pi = 0.5 * (ri + rj) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
         t.x -= pi;
         t.y -= pi;
-        (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y);
+        (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y) / ri;
         (*g).mu_max = max((*g).mu_max, -mu);
     }
     if (ART_STRESS) {
         let ri_art = (*g).art;
         let rj_art = vec3_of(art_stress[j]);
         let f = pow(max(kernel_w(u.kernel, dist) / u.w_spacing, POW_BASE_FLOOR), u.art_stress_n);
-        t.x += f * (ri_art.x + rj_art.x);
-        t.y += f * (ri_art.y + rj_art.y);
-        t.z += f * (ri_art.z + sign * rj_art.z);
+        t.x += f * (wi * ri_art.x + wj * rj_art.x);
+        t.y += f * (wi * ri_art.y + wj * rj_art.y);
+        t.z += f * (wi * ri_art.z + wj * sign * rj_art.z);
     }
     let pair = vec2<f32>(mj * (t.x * gw.x + t.z * gw.y), mj * (t.z * gw.x + t.y * gw.y));
     (*g).acc += pair;
-    (*g).partner_power += hoop_radius(kj.x, h) * (pair.x * sign * vj.x + pair.y * vj.y);
+    (*g).pair_power += pair.x * dvr + pair.y * dvz;
 }
 
 // Per particle: the gather over neighbours and axis ghosts (neighbour_loop.wgsl), then the
-// hoop sources.
+// hoop source.
 @compute @workgroup_size(64)
 fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
     let ki = kin[i];
     let ci = pair_c[i];
-    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw, ci.x,
-        ci.y);
+    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw,
+        ci.x, ci.y, hoop_radius(ki.x, u.kernel.h));
     if (ART_STRESS) {
         g.art = vec3_of(art_stress[i]);
     }
     for_each_neighbour(&g, i);
 
-    let rr = hoop_radius(ki.x, u.kernel.h);
-    let hoop = vec2<f32>((s_rr[i] - s_tt[i]) / (rho[i] * rr), s_rz[i] / (rho[i] * rr));
-    let own_power = rr * (g.acc.x * ki.z + g.acc.y * ki.w);
-    de_work[i] = -(own_power - g.partner_power) / (2.0 * rr) - (hoop.x * ki.z + hoop.y * ki.w);
-    ar[i] = g.acc.x + hoop.x;
-    az[i] = g.acc.y + hoop.y;
+    let ri = g.ri;
+    let hoop_r = -(s_tt[i] - p[i]) * g.hoop_weight / (ci.y * ci.y * ri);
+    de_work[i] = -g.pair_power / (2.0 * ri) - hoop_r * ki.z;
+    ar[i] = g.acc.x / ri + hoop_r;
+    az[i] = g.acc.y / ri;
     de_visc[i] = g.heat;
     mu_visc[i] = g.mu_max;
 }
