@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use penetrate::scene::{self, Backend, Scene};
 use penetrate::solver::{self, RunOptions};
-use penetrate::{estimate, mesh};
+use penetrate::{estimate, mesh, sweep, validate};
 
 #[derive(Parser)]
 #[command(
@@ -86,6 +86,60 @@ enum Command {
         #[arg(long, default_value = "runs/stability")]
         out: PathBuf,
     },
+    /// Run a scene over a range of one key's values: one run directory and one sweep.csv row
+    /// per value.
+    Sweep {
+        /// Scene file (cases/*.toml).
+        case: PathBuf,
+        /// The key and its values A, A + STEP, … up to B inclusive, e.g.
+        /// --vary projectile.velocity=200:800:100.
+        #[arg(long, value_name = "KEY=A:B:STEP")]
+        vary: String,
+        /// Override a scene value in every run (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Which implementation of the step runs (overrides the scene's run.backend).
+        #[arg(long, value_enum)]
+        backend: Option<BackendArg>,
+        /// GPU adapter (part of its name).
+        #[arg(long)]
+        adapter: Option<String>,
+        /// Output directory: sweep.csv and one run directory per value [default:
+        /// runs/<case>-<key's last part>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Do not write VTK frames.
+        #[arg(long)]
+        no_vtk: bool,
+    },
+    /// Run the validation cases and the paper's studies; write DIR/report.md with plots and
+    /// each section's CSV.
+    Validate {
+        /// Which paths: cpu, gpu, or auto (both, the GPU where an adapter is found). The
+        /// error-against-run-time section runs on each, the other sections on the first.
+        #[arg(long, value_enum, default_value = "auto")]
+        backend: BackendArg,
+        /// GPU adapter (part of its name).
+        #[arg(long)]
+        adapter: Option<String>,
+        /// Tiny resolutions and short end times: tests the tooling in about a minute; its
+        /// numbers are not validation.
+        #[arg(long)]
+        quick: bool,
+        /// Only these sections (comma-separated): taylor, forrestal, target-size, convergence,
+        /// rigid-vs-elastic, deformation, shell.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Output directory: report.md, and per section its CSV, plots and runs.
+        #[arg(long, default_value = "runs/validate")]
+        out: PathBuf,
+        /// Folder of the scenes the sections run.
+        #[arg(long, default_value = "cases")]
+        cases: PathBuf,
+        /// Folder of the measurements (taylor.csv, forrestal1994.csv).
+        #[arg(long, default_value = "../shared/data")]
+        data: PathBuf,
+    },
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check {
         case: PathBuf,
@@ -106,6 +160,109 @@ enum BackendArg {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Sweep {
+            case,
+            vary,
+            set,
+            backend,
+            adapter,
+            out,
+            no_vtk,
+        } => {
+            let vary = match sweep::Vary::parse(&vary) {
+                Ok(v) => v,
+                Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
+            };
+            let backend = backend.map(|b| match b {
+                BackendArg::Cpu => Backend::Cpu,
+                BackendArg::Gpu => Backend::Gpu,
+                BackendArg::Auto => Backend::Auto,
+            });
+            let out = out.unwrap_or_else(|| sweep::default_out(&case, &vary));
+            let total = vary.values.len();
+            eprintln!(
+                "penetrate sweep: {total} runs of {} over {}",
+                case.display(),
+                vary.key
+            );
+            let settings = sweep::RunSettings {
+                adapter,
+                vtk: !no_vtk,
+            };
+            let mut done = 0;
+            let result = sweep::sweep(&case, &vary, &set, backend, &settings, &out, |r| {
+                done += 1;
+                let depth = r.summary().map_or(String::new(), |s| {
+                    format!(", depth {:.4} m, {:.1} s", s.depth_m, s.wall_s)
+                });
+                eprintln!("[{done}/{total}] {}: {}{depth}", r.label, r.status());
+            });
+            match result {
+                Ok(records) => {
+                    println!("{}", out.join("sweep.csv").display());
+                    let failed = records.iter().filter(|r| r.completed().is_none()).count();
+                    if failed == 0 {
+                        ExitCode::SUCCESS
+                    } else {
+                        fail(
+                            1,
+                            &format!("sweep: {failed} of {total} runs did not complete"),
+                        )
+                    }
+                }
+                Err(e) => fail(e.exit_code(), &format!("sweep: {e}")),
+            }
+        }
+        Command::Validate {
+            backend,
+            adapter,
+            quick,
+            only,
+            out,
+            cases,
+            data,
+        } => {
+            let only = match only
+                .iter()
+                .map(|s| validate::Section::parse(s))
+                .collect::<Result<Vec<_>, _>>()
+            {
+                Ok(o) => o,
+                Err(e) => return fail(e.exit_code(), &format!("validate: {e}")),
+            };
+            let opts = validate::Options {
+                cases,
+                data,
+                out,
+                backends: backends(backend, adapter.as_deref(), "validate"),
+                adapter,
+                quick,
+                only,
+            };
+            match validate::run(&opts, &mut |line| eprintln!("{line}")) {
+                Ok(o) => {
+                    println!(
+                        "{} ({} runs, {:.0} s)",
+                        o.report.display(),
+                        o.runs,
+                        o.wall_s
+                    );
+                    if o.failed.is_empty() {
+                        ExitCode::SUCCESS
+                    } else {
+                        fail(
+                            1,
+                            &format!(
+                                "validate: {} run(s) did not complete: {}",
+                                o.failed.len(),
+                                o.failed.join("; ")
+                            ),
+                        )
+                    }
+                }
+                Err(e) => fail(e.exit_code(), &format!("validate: {e}")),
+            }
+        }
         Command::CheckStability {
             case,
             backend,

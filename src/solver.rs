@@ -579,6 +579,25 @@ impl Simulation {
             .fold(0.0f32, f32::max) as f64
     }
 
+    /// Σ damage × r–z area over the projectile's elements in the current configuration (m²):
+    /// the failed part of its section, partial damage counted by its share (the shell study's
+    /// damaged area, paper Fig. 9).
+    pub fn damage_area(&self) -> f64 {
+        let n = &self.projectile.nodes;
+        let e = &self.projectile.elements;
+        let at = |k: u32| (n.r[k as usize] as f64, n.z[k as usize] as f64);
+        e.nodes
+            .iter()
+            .zip(&e.damage)
+            .filter(|(_, &d)| d > 0.0)
+            .map(|(&[i, j, m], &d)| {
+                let ((ri, zi), (rj, zj), (rm, zm)) = (at(i), at(j), at(m));
+                let area = 0.5 * ((rj - ri) * (zm - zi) - (rm - ri) * (zj - zi));
+                d as f64 * area.abs()
+            })
+            .sum()
+    }
+
     pub fn max_plastic_strain(&self) -> f64 {
         self.projectile
             .elements
@@ -676,6 +695,7 @@ impl Simulation {
             max_damage: self.max_damage(),
             max_plastic_strain: self.max_plastic_strain(),
             hits: self.last_hits,
+            damage_area: self.damage_area(),
         }
     }
 

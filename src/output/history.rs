@@ -19,9 +19,11 @@ pub struct Row {
     pub max_damage: f64,
     pub max_plastic_strain: f64,
     pub hits: usize,
+    /// Damage-weighted r–z area of the projectile (m², `Simulation::damage_area`).
+    pub damage_area: f64,
 }
 
-pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits";
+pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2";
 
 pub struct History {
     out: BufWriter<File>,
@@ -37,7 +39,7 @@ impl History {
     pub fn write(&mut self, r: &Row) -> io::Result<()> {
         writeln!(
             self.out,
-            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}",
             r.time,
             r.step,
             r.dt,
@@ -49,7 +51,8 @@ impl History {
             r.energy_error,
             r.max_damage,
             r.max_plastic_strain,
-            r.hits
+            r.hits,
+            r.damage_area
         )
     }
 

@@ -1,0 +1,968 @@
+//! PNG plots for the validation report: series on linear or log axes ([`Chart`]) and a scalar
+//! field on triangles ([`FieldMap`], e.g. the damage of each projectile element in the r–z plane).
+//!
+//! Dependency-light on purpose: a plain RGB canvas, the `png` encoder and the public-domain
+//! `font8x8` glyphs, so a report renders wherever the solver builds (no font files, no system
+//! libraries). Every image is 800×560 px. Bad data (NaN, inf, empty, huge values) is skipped,
+//! never a panic; only file errors are returned.
+
+use std::path::Path;
+use std::{fs, io};
+
+use font8x8::{UnicodeFonts, BASIC_FONTS, GREEK_FONTS, LATIN_FONTS};
+
+const WIDTH: i64 = 800;
+const HEIGHT: i64 = 560;
+/// Plot box limits (px): room above for the title, below for tick labels and the x label.
+const BOX_TOP: f64 = 44.0;
+const BOX_BOTTOM: f64 = 500.0;
+const BOX_RIGHT: f64 = 780.0;
+/// font8x8 glyph cell (px) at 1×.
+const GLYPH: i64 = 8;
+/// Largest magnitude of a linear axis coordinate, so that spans and margins stay finite.
+const COORD_LIMIT: f64 = f64::MAX / 4.0;
+
+type Rgb = [u8; 3];
+const WHITE: Rgb = [255; 3];
+const BLACK: Rgb = [0; 3];
+const GRID: Rgb = [228; 3];
+/// Colour of a non-finite field value: grey is outside the colour map.
+const MISSING: Rgb = [150; 3];
+
+/// Okabe & Ito (2008) colour-blind-safe palette; black is left out (it draws the axes) and
+/// yellow comes last (it is weak on white).
+const PALETTE: [Rgb; 7] = [
+    [0, 114, 178],
+    [213, 94, 0],
+    [0, 158, 115],
+    [230, 159, 0],
+    [204, 121, 167],
+    [86, 180, 233],
+    [240, 228, 66],
+];
+
+/// Viridis (van der Walt & Smith, matplotlib's default map) at 9 even stops, interpolated
+/// linearly: monotonic in lightness, so it reads in grey print and for colour-blind readers.
+const VIRIDIS: [Rgb; 9] = [
+    [68, 1, 84],
+    [71, 44, 122],
+    [59, 81, 139],
+    [44, 113, 142],
+    [33, 144, 141],
+    [39, 173, 129],
+    [92, 200, 99],
+    [170, 220, 50],
+    [253, 231, 37],
+];
+
+/// How an axis maps data values to distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    /// Distance proportional to the value.
+    Linear,
+    /// Distance proportional to log10 of the value; values ≤ 0 are not drawn.
+    Log,
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mark {
+    /// Segments between consecutive points, broken where a point cannot be drawn.
+    Line,
+    /// A dot at each point.
+    Points,
+    /// Segments and dots.
+    LinePoints,
+}
+
+/// One labelled data set of a [`Chart`].
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// (x, y) in data units, joined in this order.
+    pub points: Vec<(f64, f64)>,
+    /// Line, dots or both.
+    pub mark: Mark,
+}
+
+/// An x–y chart of one or more series; colours follow the series order.
+pub struct Chart {
+    /// Text above the plot box.
+    pub title: String,
+    /// Text under the x axis.
+    pub x_label: String,
+    /// Text beside the y axis, read bottom to top.
+    pub y_label: String,
+    /// Linear or log x axis.
+    pub x_scale: Scale,
+    /// Linear or log y axis.
+    pub y_scale: Scale,
+    /// Data sets, drawn in order (later ones on top).
+    pub series: Vec<Series>,
+}
+
+impl Chart {
+    /// Linear axes, no series.
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Chart {
+        Chart {
+            title: title.to_string(),
+            x_label: x_label.to_string(),
+            y_label: y_label.to_string(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: Vec::new(),
+        }
+    }
+
+    /// The same chart with a log x axis.
+    pub fn log_x(self) -> Chart {
+        Chart {
+            x_scale: Scale::Log,
+            ..self
+        }
+    }
+
+    /// The same chart with a log y axis.
+    pub fn log_y(self) -> Chart {
+        Chart {
+            y_scale: Scale::Log,
+            ..self
+        }
+    }
+
+    /// The same chart with one more series.
+    pub fn series(mut self, label: &str, points: Vec<(f64, f64)>, mark: Mark) -> Chart {
+        let label = label.to_string();
+        self.series.push(Series {
+            label,
+            points,
+            mark,
+        });
+        self
+    }
+
+    /// Renders the chart to an 800×560 RGB PNG; "no data" when no point can be drawn.
+    pub fn write_png(&self, path: &Path) -> io::Result<()> {
+        self.render().write_png(path)
+    }
+
+    /// Axis coordinates of a point, None where it cannot be drawn on these scales.
+    fn coords(&self, (x, y): (f64, f64)) -> Option<(f64, f64)> {
+        Some((self.x_scale.coord(x)?, self.y_scale.coord(y)?))
+    }
+
+    /// Axes covering every drawable point; None without one.
+    fn frame(&self) -> Option<Frame> {
+        let points = || self.series.iter().flat_map(|s| s.points.iter());
+        let drawable = || points().filter_map(|&p| self.coords(p));
+        let x = Axis::covering(self.x_scale, drawable().map(|c| c.0))?;
+        let y = Axis::covering(self.y_scale, drawable().map(|c| c.1))?;
+        let left = box_left(&y);
+        let rect = Rect::new(left, BOX_TOP, BOX_RIGHT - left, BOX_BOTTOM - BOX_TOP);
+        Some(Frame { x, y, rect })
+    }
+
+    fn render(&self) -> Canvas {
+        let mut canvas = Canvas::new();
+        canvas.title(&self.title);
+        let Some(frame) = self.frame() else {
+            canvas.no_data(&self.x_label, &self.y_label);
+            return canvas;
+        };
+        frame.draw_axes(&mut canvas, true, &self.x_label, &self.y_label);
+        let mut dots = Vec::new();
+        for (series, &colour) in self.series.iter().zip(PALETTE.iter().cycle()) {
+            let pixel = |&p| self.coords(p).map(|c| round(frame.pixel(c)));
+            let pixels: Vec<_> = series.points.iter().map(pixel).collect();
+            if series.mark != Mark::Points {
+                for pair in pixels.windows(2) {
+                    if let [Some(a), Some(b)] = *pair {
+                        canvas.line(a, b, colour);
+                    }
+                }
+            }
+            if series.mark != Mark::Line {
+                for &p in pixels.iter().flatten() {
+                    canvas.dot(p, colour);
+                }
+            }
+            dots.extend(pixels.into_iter().flatten());
+        }
+        self.draw_legend(&mut canvas, frame.rect.edges(), &dots);
+        canvas
+    }
+
+    /// A legend box in the corner of the plot box that hides the fewest data points.
+    fn draw_legend(&self, canvas: &mut Canvas, plot: Edges, dots: &[(i64, i64)]) {
+        const ROW: i64 = 14;
+        const INSET: i64 = 10;
+        let labels = self.series.iter().map(|s| s.label.as_str());
+        let (width, height) = (48 + widest(labels), 8 + ROW * self.series.len() as i64);
+        let (x0, x1) = (plot.0 + INSET, plot.2 - INSET - width);
+        let (y0, y1) = (plot.1 + INSET, plot.3 - INSET - height);
+        let corners = [(x1, y0), (x0, y0), (x1, y1), (x0, y1)];
+        let hidden = |&&(x, y): &&(i64, i64)| {
+            let covers =
+                |d: &&(i64, i64)| (x..=x + width).contains(&d.0) && (y..=y + height).contains(&d.1);
+            dots.iter().filter(covers).count()
+        };
+        let Some(&(x, y)) = corners.iter().min_by_key(hidden) else {
+            return;
+        };
+        canvas.fill(x, y, width, height, WHITE);
+        canvas.outline((x, y, x + width, y + height), [120; 3]);
+        let colours = PALETTE.iter().cycle();
+        for (i, (series, &colour)) in self.series.iter().zip(colours).enumerate() {
+            let row = y + 4 + ROW * i as i64 + ROW / 2;
+            if series.mark != Mark::Points {
+                canvas.line((x + 8, row), (x + 30, row), colour);
+            }
+            if series.mark != Mark::Line {
+                canvas.dot((x + 19, row), colour);
+            }
+            canvas.text(x + 40, row - GLYPH / 2, &series.label, 1, BLACK);
+        }
+    }
+}
+
+/// A scalar field on triangles in a plane (e.g. the damage of each projectile element in the
+/// r–z plane), coloured by value.
+pub struct FieldMap {
+    /// Text above the map.
+    pub title: String,
+    /// Text under the x axis.
+    pub x_label: String,
+    /// Text beside the y axis, read bottom to top.
+    pub y_label: String,
+    /// Text beside the colour bar.
+    pub value_label: String,
+    /// Corners (x, y) of each triangle, in the same length unit on both axes.
+    pub triangles: Vec<[[f64; 2]; 3]>,
+    /// One value per triangle; a missing or non-finite value is drawn grey.
+    pub values: Vec<f64>,
+    /// Colour scale limits (value_min, value_max); values are clamped into it.
+    pub range: (f64, f64),
+}
+
+impl FieldMap {
+    /// Renders the map to an 800×560 RGB PNG with equal scales on both axes and a colour bar;
+    /// "no data" when no triangle has finite corners.
+    pub fn write_png(&self, path: &Path) -> io::Result<()> {
+        self.render().write_png(path)
+    }
+
+    fn range_labels(&self) -> [String; 2] {
+        [short(self.range.0), short(self.range.1)]
+    }
+
+    /// Axes covering every finite triangle, scaled so that a unit of x is as long as a unit of
+    /// y, leaving room on the right for the colour bar; None without a finite triangle.
+    fn frame(&self) -> Option<Frame> {
+        let finite = |t: &&[[f64; 2]; 3]| t.iter().flatten().all(|v| v.is_finite());
+        let corners = || self.triangles.iter().filter(finite).flatten();
+        let along = |k: usize| corners().filter_map(move |c| Scale::Linear.coord(c[k]));
+        let x = Axis::covering(Scale::Linear, along(0))?;
+        let y = Axis::covering(Scale::Linear, along(1))?;
+        let left = box_left(&y);
+        let labels = self.range_labels();
+        let bar_room = 82 + widest(labels.iter().map(String::as_str));
+        let room_x = WIDTH as f64 - bar_room as f64 - left;
+        let scale = (room_x / (x.hi - x.lo)).min((BOX_BOTTOM - BOX_TOP) / (y.hi - y.lo));
+        let rect = Rect::new(left, BOX_TOP, (x.hi - x.lo) * scale, (y.hi - y.lo) * scale);
+        Some(Frame { x, y, rect })
+    }
+
+    /// Colour of a value: viridis over `range`, grey where the value is missing or not finite.
+    fn colour(&self, value: Option<f64>) -> Rgb {
+        let Some(v) = value.filter(|v| v.is_finite()) else {
+            return MISSING;
+        };
+        let t = (v - self.range.0) / (self.range.1 - self.range.0);
+        // A zero or non-finite range leaves t undefined: the middle of the map.
+        viridis(if t.is_nan() { 0.5 } else { t.clamp(0.0, 1.0) })
+    }
+
+    fn render(&self) -> Canvas {
+        let mut canvas = Canvas::new();
+        canvas.title(&self.title);
+        let Some(frame) = self.frame() else {
+            canvas.no_data(&self.x_label, &self.y_label);
+            return canvas;
+        };
+        frame.draw_axes(&mut canvas, false, &self.x_label, &self.y_label);
+        let edges = frame.rect.edges();
+        for (i, triangle) in self.triangles.iter().enumerate() {
+            let corners = triangle.map(|[x, y]| frame.pixel((x, y)));
+            canvas.triangle(corners, edges, self.colour(self.values.get(i).copied()));
+        }
+        canvas.outline(edges, BLACK);
+        self.draw_colour_bar(&mut canvas, edges);
+        canvas
+    }
+
+    /// Colour bar right of the map, max at the top, with its limits and `value_label`.
+    fn draw_colour_bar(&self, canvas: &mut Canvas, (_, top, right, bottom): Edges) {
+        let (x, height) = (right + 36, (bottom - top).max(160));
+        for row in 0..height {
+            let t = 1.0 - row as f64 / (height - 1) as f64;
+            canvas.fill(x, top + row, 18, 1, viridis(t));
+        }
+        canvas.outline((x, top, x + 18, top + height), BLACK);
+        let [min, max] = self.range_labels();
+        canvas.text(x + 24, top, &max, 1, BLACK);
+        canvas.text(x + 24, top + height - GLYPH, &min, 1, BLACK);
+        let label_x = x + 34 + widest([min.as_str(), max.as_str()].into_iter());
+        let middle = top + height / 2 + text_width(&self.value_label, 1) / 2;
+        canvas.text_up(label_x, middle, &self.value_label, BLACK);
+    }
+}
+
+impl Scale {
+    /// Axis coordinate of a data value (the value, or its log10); None where it cannot be drawn.
+    fn coord(self, v: f64) -> Option<f64> {
+        match self {
+            Scale::Linear => v.is_finite().then(|| v.clamp(-COORD_LIMIT, COORD_LIMIT)),
+            Scale::Log => (v.is_finite() && v > 0.0).then(|| v.log10()),
+        }
+    }
+}
+
+/// One axis: its scale and its limits in axis coordinates (values, or log10 of values).
+#[derive(Clone, Copy, Debug)]
+struct Axis {
+    scale: Scale,
+    lo: f64,
+    hi: f64,
+}
+
+impl Axis {
+    /// The axis covering `coords` with a 5 % margin; a zero span is widened so that it still has
+    /// ticks. None without a coordinate.
+    fn covering(scale: Scale, coords: impl Iterator<Item = f64>) -> Option<Axis> {
+        let limits = (f64::INFINITY, f64::NEG_INFINITY);
+        let (lo, hi) = coords.fold(limits, |(lo, hi), c| (lo.min(c), hi.max(c)));
+        if lo > hi {
+            return None;
+        }
+        let (lo, hi) = if hi - lo > 1e-9 * lo.abs().max(hi.abs()) {
+            let margin = 0.05 * (hi - lo);
+            (lo - margin, hi + margin)
+        } else {
+            let mid = 0.5 * lo + 0.5 * hi;
+            let pad = match scale {
+                Scale::Log => 0.5,
+                Scale::Linear if mid.abs() > 1e-150 => 0.1 * mid.abs(),
+                Scale::Linear => 1.0,
+            };
+            (mid - pad, mid + pad)
+        };
+        Some(Axis { scale, lo, hi })
+    }
+
+    /// Fraction of the way from `lo` to `hi`.
+    fn unit(&self, c: f64) -> f64 {
+        (c - self.lo) / (self.hi - self.lo)
+    }
+
+    /// Tick positions (axis coordinates) with their labels.
+    fn ticks(&self) -> Vec<(f64, String)> {
+        match self.scale {
+            Scale::Linear => linear_ticks(self.lo, self.hi),
+            Scale::Log => log_ticks(self.lo, self.hi),
+        }
+    }
+}
+
+/// Ticks at multiples of a 1, 2 or 5 × 10^k step, the step giving closest to 4–8 ticks.
+fn linear_ticks(lo: f64, hi: f64) -> Vec<(f64, String)> {
+    let span = hi - lo;
+    if !(span.is_finite() && span > 0.0) {
+        return Vec::new();
+    }
+    // First and last multiple of `step` inside lo..hi, with slack for rounding.
+    let indices = |step: f64| ((lo / step - 1e-9).ceil(), (hi / step + 1e-9).floor());
+    let misfit = |step: f64| {
+        let (first, last) = indices(step);
+        let n = last - first + 1.0;
+        ((4.0 - n).max(n - 8.0).max(0.0), (n - 6.0).abs())
+    };
+    let k = span.log10().floor() as i32;
+    let steps = (k - 1..=k).flat_map(|e| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(e)));
+    let best = steps.filter(|s| s.is_normal()).min_by(|&a, &b| {
+        let ((fit_a, off_a), (fit_b, off_b)) = (misfit(a), misfit(b));
+        fit_a.total_cmp(&fit_b).then(off_a.total_cmp(&off_b))
+    });
+    let Some(step) = best else {
+        return Vec::new();
+    };
+    let (first, last) = indices(step);
+    let scientific = lo.abs().max(hi.abs()) >= 1e5 || step < 1e-3;
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    let label = |v: f64| match v {
+        _ if v == 0.0 => "0".to_string(),
+        _ if scientific => {
+            let digits = (v.abs().log10().floor() - step.log10().floor()).clamp(0.0, 15.0);
+            format!("{:.*e}", digits as usize, v)
+        }
+        _ => format!("{v:.decimals$}"),
+    };
+    let values = (0..=(last - first) as i64).map(|i| (first + i as f64) * step);
+    values.map(|v| (v, label(v))).collect()
+}
+
+/// Ticks at decades (every n-th where there are more than 8); under four decades at 1, 3 or
+/// 1, 2, 5 × 10^k, and where even those are too few, linear ticks of the values.
+fn log_ticks(lo: f64, hi: f64) -> Vec<(f64, String)> {
+    if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+        return Vec::new();
+    }
+    let (first, last) = ((lo - 1e-9).ceil() as i32, (hi + 1e-9).floor() as i32);
+    if last - first >= 3 {
+        let stride = (last - first + 8) / 8;
+        let start = first + (stride - first.rem_euclid(stride)) % stride;
+        let decades = (start..=last).step_by(stride as usize);
+        return decades.map(|e| (e as f64, power_label(1, e))).collect();
+    }
+    let within = |mantissas: &[u32]| -> Vec<(f64, String)> {
+        let candidates = (first - 1..=last).flat_map(|e| mantissas.iter().map(move |&m| (m, e)));
+        let placed = candidates.map(|(m, e)| ((m as f64).log10() + e as f64, power_label(m, e)));
+        placed
+            .filter(|&(c, _)| c >= lo - 1e-9 && c <= hi + 1e-9)
+            .collect()
+    };
+    let (thirds, fifths) = (within(&[1, 3]), within(&[1, 2, 5]));
+    if thirds.len() >= 4 {
+        return thirds;
+    }
+    if fifths.len() >= 2 {
+        return fifths;
+    }
+    let linear = linear_ticks(10f64.powf(lo), 10f64.powf(hi)).into_iter();
+    linear
+        .filter(|t| t.0 > 0.0)
+        .map(|(v, label)| (v.log10(), label))
+        .collect()
+}
+
+/// `m` × 10^`e` as plain decimals between 0.01 and 9000, else as `2e-5`.
+fn power_label(m: u32, e: i32) -> String {
+    match e {
+        -2..=-1 => format!("{:.*}", e.unsigned_abs() as usize, m as f64 * 10f64.powi(e)),
+        0..=3 => format!("{}", m * 10u32.pow(e as u32)),
+        _ => format!("{m}e{e}"),
+    }
+}
+
+/// A value in about 4 significant digits, for labels that are not ticks.
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    if !(1e-3..1e5).contains(&v.abs()) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3.0 - v.abs().log10().floor()).max(0.0) as usize;
+    let text = format!("{v:.decimals$}");
+    match text.contains('.') {
+        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => text,
+    }
+}
+
+/// Left edge of the plot box: room for the rotated y label and the widest y tick label.
+fn box_left(y: &Axis) -> f64 {
+    let ticks = y.ticks();
+    (34 + widest(ticks.iter().map(|t| t.1.as_str()))).max(60) as f64
+}
+
+/// Left, top, right and bottom pixel of a box, all inclusive.
+type Edges = (i64, i64, i64, i64);
+
+/// A rectangle on the canvas (px).
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    left: f64,
+    top: f64,
+    width: f64,
+    height: f64,
+}
+
+impl Rect {
+    fn new(left: f64, top: f64, width: f64, height: f64) -> Rect {
+        Rect {
+            left,
+            top,
+            width,
+            height,
+        }
+    }
+
+    fn edges(&self) -> Edges {
+        let (right, bottom) = (self.left + self.width, self.top + self.height);
+        let (left, top) = (self.left.round() as i64, self.top.round() as i64);
+        (left, top, right.round() as i64, bottom.round() as i64)
+    }
+}
+
+/// The plot box and the axes it shows.
+struct Frame {
+    x: Axis,
+    y: Axis,
+    rect: Rect,
+}
+
+impl Frame {
+    /// Pixel position of a point given in axis coordinates.
+    fn pixel(&self, (cx, cy): (f64, f64)) -> (f64, f64) {
+        let r = &self.rect;
+        let y = r.top + (1.0 - self.y.unit(cy)) * r.height;
+        (r.left + self.x.unit(cx) * r.width, y)
+    }
+
+    /// Box, ticks with labels (thinned where labels would overlap), grid lines at the ticks
+    /// where asked, and the axis labels.
+    fn draw_axes(&self, canvas: &mut Canvas, grid: bool, x_label: &str, y_label: &str) {
+        let edges @ (left, top, right, bottom) = self.rect.edges();
+        let at = |ticks: Vec<(f64, String)>, pixel: &dyn Fn(f64) -> f64| -> Vec<(i64, String)> {
+            ticks
+                .into_iter()
+                .map(|(c, label)| (pixel(c).round() as i64, label))
+                .collect()
+        };
+        let x_ticks = at(self.x.ticks(), &|c| self.pixel((c, 0.0)).0);
+        let y_ticks = at(self.y.ticks(), &|c| self.pixel((0.0, c)).1);
+        let need = widest(x_ticks.iter().map(|t| t.1.as_str())) + 6;
+        for (x, label) in x_ticks.iter().step_by(stride(&x_ticks, need)) {
+            if grid {
+                canvas.fill(*x, top, 1, bottom - top, GRID);
+            }
+            canvas.fill(*x, bottom - 5, 1, 5, BLACK);
+            canvas.text(x - text_width(label, 1) / 2, bottom + 7, label, 1, BLACK);
+        }
+        for (y, label) in y_ticks.iter().step_by(stride(&y_ticks, 2 * GLYPH)) {
+            if grid {
+                canvas.fill(left, *y, right - left, 1, GRID);
+            }
+            canvas.fill(left, *y, 5, 1, BLACK);
+            let x = left - 6 - text_width(label, 1);
+            canvas.text(x, y - GLYPH / 2, label, 1, BLACK);
+        }
+        canvas.outline(edges, BLACK);
+        axis_labels(canvas, edges, x_label, y_label);
+    }
+}
+
+/// Every how-many-th tick keeps neighbouring labels at least `need` px apart.
+fn stride(ticks: &[(i64, String)], need: i64) -> usize {
+    let gaps = ticks.windows(2).map(|w| (w[1].0 - w[0].0).abs());
+    match gaps.min() {
+        Some(gap) if gap > 0 => ((need + gap - 1) / gap).max(1) as usize,
+        _ => 1,
+    }
+}
+
+/// The x label centred under a box, the y label read bottom to top at the left edge.
+fn axis_labels(
+    canvas: &mut Canvas,
+    (left, top, right, bottom): Edges,
+    x_label: &str,
+    y_label: &str,
+) {
+    let x = (left + right - text_width(x_label, 1)) / 2;
+    canvas.text(x, bottom + 26, x_label, 1, BLACK);
+    let y = (top + bottom + text_width(y_label, 1)) / 2;
+    canvas.text_up(8, y, y_label, BLACK);
+}
+
+fn round((x, y): (f64, f64)) -> (i64, i64) {
+    (x.round() as i64, y.round() as i64)
+}
+
+/// Viridis at `t` in 0..=1.
+fn viridis(t: f64) -> Rgb {
+    let s = t * (VIRIDIS.len() - 1) as f64;
+    let i = (s.floor() as usize).min(VIRIDIS.len() - 2);
+    let (a, b, f) = (VIRIDIS[i], VIRIDIS[i + 1], s - i as f64);
+    std::array::from_fn(|k| (a[k] as f64 + f * (b[k] as f64 - a[k] as f64)).round() as u8)
+}
+
+/// The font8x8 glyph of a character: basic, Latin-1 or Greek; dashes as '-', others as '?'.
+fn glyph(ch: char) -> [u8; 8] {
+    let ch = if matches!(ch, '–' | '—' | '−') {
+        '-'
+    } else {
+        ch
+    };
+    let found = BASIC_FONTS.get(ch).or_else(|| LATIN_FONTS.get(ch));
+    let found = found.or_else(|| GREEK_FONTS.get(ch));
+    found.or_else(|| BASIC_FONTS.get('?')).unwrap_or_default()
+}
+
+/// Lit pixels of `text` at 1×, as (x, y) from its top-left corner.
+fn ink(text: &str) -> impl Iterator<Item = (i64, i64)> + '_ {
+    text.chars().enumerate().flat_map(|(i, ch)| {
+        let rows = glyph(ch).into_iter().enumerate();
+        rows.flat_map(move |(row, bits)| {
+            let lit = (0..8).filter(move |col| bits >> col & 1 == 1);
+            lit.map(move |col| (i as i64 * GLYPH + col, row as i64))
+        })
+    })
+}
+
+fn text_width(text: &str, scale: i64) -> i64 {
+    text.chars().count() as i64 * GLYPH * scale
+}
+
+/// Width (px) of the widest of `texts` at 1×.
+fn widest<'a>(texts: impl Iterator<Item = &'a str>) -> i64 {
+    texts.map(|t| text_width(t, 1)).max().unwrap_or(0)
+}
+
+/// An 800×560 RGB image, white to start; drawing outside it is ignored.
+struct Canvas {
+    rgb: Vec<u8>,
+}
+
+impl Canvas {
+    fn new() -> Canvas {
+        Canvas {
+            rgb: vec![255; (WIDTH * HEIGHT * 3) as usize],
+        }
+    }
+
+    fn set(&mut self, x: i64, y: i64, colour: Rgb) {
+        if (0..WIDTH).contains(&x) && (0..HEIGHT).contains(&y) {
+            let i = 3 * (y * WIDTH + x) as usize;
+            self.rgb[i..i + 3].copy_from_slice(&colour);
+        }
+    }
+
+    fn fill(&mut self, x: i64, y: i64, width: i64, height: i64, colour: Rgb) {
+        for y in y.max(0)..y.saturating_add(height).min(HEIGHT) {
+            for x in x.max(0)..x.saturating_add(width).min(WIDTH) {
+                self.set(x, y, colour);
+            }
+        }
+    }
+
+    /// A 1 px frame on the edge pixels.
+    fn outline(&mut self, (left, top, right, bottom): Edges, colour: Rgb) {
+        let (width, height) = (right - left + 1, bottom - top + 1);
+        self.fill(left, top, width, 1, colour);
+        self.fill(left, bottom, width, 1, colour);
+        self.fill(left, top, 1, height, colour);
+        self.fill(right, top, 1, height, colour);
+    }
+
+    /// A 2 px wide Bresenham line.
+    fn line(&mut self, (x0, y0): (i64, i64), (x1, y1): (i64, i64), colour: Rgb) {
+        // Endpoints lie on the canvas by construction; this only bounds the loop otherwise.
+        if [x0, y0, x1, y1]
+            .iter()
+            .any(|v| !(-WIDTH..2 * WIDTH).contains(v))
+        {
+            return;
+        }
+        let (dx, dy) = ((x1 - x0).abs(), -(y1 - y0).abs());
+        let (sx, sy) = ((x1 - x0).signum(), (y1 - y0).signum());
+        let (mut x, mut y, mut err) = (x0, y0, dx + dy);
+        loop {
+            self.fill(x, y, 2, 2, colour);
+            if (x, y) == (x1, y1) {
+                return;
+            }
+            let e2 = 2 * err;
+            if e2 >= dy {
+                err += dy;
+                x += sx;
+            }
+            if e2 <= dx {
+                err += dx;
+                y += sy;
+            }
+        }
+    }
+
+    /// A filled dot of radius 3 px.
+    fn dot(&mut self, (x, y): (i64, i64), colour: Rgb) {
+        for dy in -3..=3_i64 {
+            for dx in -3..=3_i64 {
+                if dx * dx + dy * dy <= 10 {
+                    self.set(x + dx, y + dy, colour);
+                }
+            }
+        }
+    }
+
+    /// Fills the pixels inside `clip` whose centres lie in the triangle (corners in px).
+    fn triangle(&mut self, [a, b, c]: [(f64, f64); 3], clip: Edges, colour: Rgb) {
+        let edge = |p: (f64, f64), q: (f64, f64), s: (f64, f64)| {
+            (q.0 - p.0) * (s.1 - p.1) - (q.1 - p.1) * (s.0 - p.0)
+        };
+        let area = edge(a, b, c);
+        if area == 0.0 || area.is_nan() {
+            return;
+        }
+        let bounds = |u: [f64; 3]| {
+            let (lo, hi) = (u[0].min(u[1]).min(u[2]), u[0].max(u[1]).max(u[2]));
+            (lo.floor() as i64, hi.ceil() as i64)
+        };
+        let ((x0, x1), (y0, y1)) = (bounds([a.0, b.0, c.0]), bounds([a.1, b.1, c.1]));
+        for y in y0.max(clip.1)..=y1.min(clip.3) {
+            for x in x0.max(clip.0)..=x1.min(clip.2) {
+                let p = (x as f64 + 0.5, y as f64 + 0.5);
+                let sides = [edge(b, c, p), edge(c, a, p), edge(a, b, p)];
+                if sides.iter().all(|w| w * area >= 0.0) {
+                    self.set(x, y, colour);
+                }
+            }
+        }
+    }
+
+    /// Text with its top-left corner at (x, y), glyphs scaled by `scale`.
+    fn text(&mut self, x: i64, y: i64, text: &str, scale: i64, colour: Rgb) {
+        for (dx, dy) in ink(text) {
+            self.fill(x + dx * scale, y + dy * scale, scale, scale, colour);
+        }
+    }
+
+    /// Text turned 90° counter-clockwise (read bottom to top), its bottom-left corner at (x, y).
+    fn text_up(&mut self, x: i64, y: i64, text: &str, colour: Rgb) {
+        for (dx, dy) in ink(text) {
+            self.set(x + dy, y - 1 - dx, colour);
+        }
+    }
+
+    /// The title centred on top: 2× where it fits, else 1×.
+    fn title(&mut self, title: &str) {
+        let fits = text_width(title, 2) <= WIDTH - 20;
+        let scale = if fits { 2 } else { 1 };
+        self.text(
+            (WIDTH - text_width(title, scale)) / 2,
+            14,
+            title,
+            scale,
+            BLACK,
+        );
+    }
+
+    /// An empty plot box saying "no data".
+    fn no_data(&mut self, x_label: &str, y_label: &str) {
+        let edges = (60, BOX_TOP as i64, BOX_RIGHT as i64, BOX_BOTTOM as i64);
+        self.outline(edges, BLACK);
+        axis_labels(self, edges, x_label, y_label);
+        let x = (edges.0 + edges.2 - text_width("no data", 2)) / 2;
+        self.text(x, (edges.1 + edges.3) / 2 - GLYPH, "no data", 2, BLACK);
+    }
+
+    fn write_png(&self, path: &Path) -> io::Result<()> {
+        // Encoded in memory, so that every error writing the file reaches the caller.
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, WIDTH as u32, HEIGHT as u32);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&self.rgb)?;
+        writer.finish()?;
+        fs::write(path, bytes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fresh directory under the system temp dir, unique to this process and test.
+    fn temp_dir(name: &str) -> std::path::PathBuf {
+        let name = format!("penetrate-plot-{}-{name}", std::process::id());
+        let dir = std::env::temp_dir().join(name);
+        fs::create_dir_all(&dir).expect("create temp dir");
+        dir
+    }
+
+    /// Width, height and RGB bytes of a PNG written here.
+    fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
+        let decoder = png::Decoder::new(fs::File::open(path).expect("open png"));
+        let mut reader = decoder.read_info().expect("png header");
+        let mut rgb = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut rgb).expect("png frame");
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        assert_eq!(info.bit_depth, png::BitDepth::Eight);
+        rgb.truncate(info.buffer_size());
+        (info.width, info.height, rgb)
+    }
+
+    fn pixel(rgb: &[u8], (x, y): (i64, i64)) -> Rgb {
+        let i = 3 * (y * WIDTH + x) as usize;
+        [rgb[i], rgb[i + 1], rgb[i + 2]]
+    }
+
+    fn positions(ticks: &[(f64, String)]) -> Vec<f64> {
+        ticks.iter().map(|t| t.0).collect()
+    }
+
+    fn labels(ticks: &[(f64, String)]) -> Vec<&str> {
+        ticks.iter().map(|t| t.1.as_str()).collect()
+    }
+
+    #[test]
+    fn charts_draw_every_series_and_their_text() {
+        let dir = temp_dir("charts");
+        let parabola = (0..50)
+            .map(|i| (0.1 * i as f64, (0.1 * i as f64).powi(2)))
+            .collect();
+        let measured = vec![(1.0, 3.0), (2.0, 5.0), (4.0, 12.0)];
+        let linear = Chart::new("Depth of penetration", "time (ms)", "depth (mm)")
+            .series("parabola", parabola, Mark::Line)
+            .series("measured", measured, Mark::Points);
+        let power = (0..40).map(|i| (10f64.powf(0.1 * i as f64), 10f64.powf(-0.2 * i as f64)));
+        let log_log = Chart::new("Convergence", "particles", "error")
+            .log_x()
+            .log_y()
+            .series("h^2", power.collect(), Mark::LinePoints)
+            .series("h", vec![(1.0, 1.0), (1e3, 1e-3)], Mark::Line);
+        for (name, chart) in [("linear", &linear), ("log-log", &log_log)] {
+            let path = dir.join(format!("{name}.png"));
+            chart.write_png(&path).expect("write chart");
+            let (width, height, rgb) = decode(&path);
+            assert_eq!((width, height), (WIDTH as u32, HEIGHT as u32), "{name}");
+            for colour in &PALETTE[..2] {
+                let found = rgb.chunks(3).any(|p| p == colour);
+                assert!(found, "{name}: no pixel of series colour {colour:?}");
+            }
+            let (left, top, right, bottom) = chart.frame().expect("drawable points").rect.edges();
+            let all = (0..HEIGHT).flat_map(|y| (0..WIDTH).map(move |x| (x, y)));
+            let outside = |&(x, y): &(i64, i64)| x < left || x > right || y < top || y > bottom;
+            let inked = all
+                .filter(outside)
+                .filter(|&p| pixel(&rgb, p) != WHITE)
+                .count();
+            assert!(
+                inked > 500,
+                "{name}: only {inked} pixels of text around the box"
+            );
+        }
+        fs::remove_dir_all(dir).expect("remove temp dir");
+    }
+
+    #[test]
+    fn bad_points_and_empty_plots_still_write() {
+        let dir = temp_dir("bad");
+        let (nan, inf, max) = (f64::NAN, f64::INFINITY, f64::MAX);
+        let bad = vec![
+            (nan, 1.0),
+            (1.0, inf),
+            (-1.0, -2.0),
+            (0.0, 0.0),
+            (2.0, 3.0),
+            (max, -max),
+        ];
+        let chart = |title: &str| Chart::new(title, "x", "y");
+        let charts = [
+            chart(""),
+            chart("empty series").series("none", Vec::new(), Mark::LinePoints),
+            chart("bad").series("bad", bad.clone(), Mark::LinePoints),
+            chart("bad log")
+                .log_x()
+                .log_y()
+                .series("bad", bad, Mark::LinePoints),
+            chart("not positive")
+                .log_y()
+                .series("-", vec![(1.0, -1.0), (2.0, 0.0)], Mark::Line),
+            chart("huge").series("huge", vec![(-max, 1e-308), (max, 5e-324)], Mark::Line),
+            chart("one point")
+                .log_x()
+                .series("one", vec![(1e-300, 0.0)], Mark::Points),
+        ];
+        for (i, chart) in charts.iter().enumerate() {
+            let path = dir.join(format!("{i}.png"));
+            chart.write_png(&path).expect("write chart");
+            assert_eq!(decode(&path).0, WIDTH as u32);
+        }
+        let map = FieldMap {
+            title: "bad map".into(),
+            x_label: "r".into(),
+            y_label: "z".into(),
+            value_label: "D".into(),
+            triangles: vec![
+                [[0.0, 0.0], [nan, 1.0], [1.0, 1.0]],
+                [[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]],
+            ],
+            values: vec![nan],
+            range: (nan, inf),
+        };
+        map.write_png(&dir.join("map.png")).expect("write map");
+        let empty = FieldMap {
+            triangles: Vec::new(),
+            ..map
+        };
+        empty
+            .write_png(&dir.join("empty.png"))
+            .expect("write empty map");
+        fs::remove_dir_all(dir).expect("remove temp dir");
+    }
+
+    #[test]
+    fn field_map_colours_each_triangle_by_its_value() {
+        let dir = temp_dir("map");
+        let map = FieldMap {
+            title: "Damage".into(),
+            x_label: "r (m)".into(),
+            y_label: "z (m)".into(),
+            value_label: "damage".into(),
+            triangles: vec![
+                [[0.0, 0.0], [1.0, 0.0], [0.0, 2.0]],
+                [[1.0, 0.0], [1.0, 2.0], [0.0, 2.0]],
+            ],
+            values: vec![0.0, 1.0],
+            range: (0.0, 1.0),
+        };
+        let path = dir.join("map.png");
+        map.write_png(&path).expect("write map");
+        let (_, _, rgb) = decode(&path);
+        let Frame { x, y, rect } = map.frame().expect("finite triangles");
+        let (x_scale, y_scale) = (rect.width / (x.hi - x.lo), rect.height / (y.hi - y.lo));
+        assert!(
+            (x_scale / y_scale - 1.0).abs() < 1e-12,
+            "aspect {x_scale} vs {y_scale} px/m"
+        );
+        let frame = Frame { x, y, rect };
+        for (triangle, &value) in map.triangles.iter().zip(&map.values) {
+            let sum = |k: usize| triangle.iter().map(|c| c[k]).sum::<f64>();
+            let (px, py) = frame.pixel((sum(0) / 3.0, sum(1) / 3.0));
+            let at = (px.floor() as i64, py.floor() as i64);
+            assert_eq!(pixel(&rgb, at), viridis(value), "value {value}");
+        }
+        fs::remove_dir_all(dir).expect("remove temp dir");
+    }
+
+    #[test]
+    fn ticks_are_round_values_and_decades() {
+        let unit = linear_ticks(0.0, 1.0);
+        let expected = [0.0, 0.2, 0.4, 0.6, 0.8, 1.0];
+        assert_eq!(unit.len(), expected.len());
+        assert!(unit
+            .iter()
+            .zip(expected)
+            .all(|(t, e)| (t.0 - e).abs() < 1e-12));
+        assert_eq!(labels(&unit), ["0", "0.2", "0.4", "0.6", "0.8", "1.0"]);
+        assert_eq!(positions(&linear_ticks(-3.0, 17.0)), [0.0, 5.0, 10.0, 15.0]);
+        let big = linear_ticks(0.0, 3e6);
+        assert_eq!(
+            labels(&big),
+            ["0", "5e5", "1.0e6", "1.5e6", "2.0e6", "2.5e6", "3.0e6"]
+        );
+
+        let decades = log_ticks(-3.0, 2.0);
+        assert_eq!(positions(&decades), [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0]);
+        assert_eq!(labels(&decades), ["1e-3", "0.01", "0.1", "1", "10", "100"]);
+        let many = positions(&log_ticks(-10.0, 20.0));
+        assert_eq!(many, [-8.0, -4.0, 0.0, 4.0, 8.0, 12.0, 16.0, 20.0]);
+        assert_eq!(
+            labels(&log_ticks(-3.1, -1.4)),
+            ["1e-3", "3e-3", "0.01", "0.03"]
+        );
+        assert_eq!(labels(&log_ticks(0.1, 0.9)), ["2", "5"]);
+        assert!(log_ticks(3f64.log10(), 4.5f64.log10()).len() >= 2);
+    }
+}

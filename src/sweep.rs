@@ -1,0 +1,434 @@
+//! `penetrate sweep`: one scene run over a range of one key's values (`--vary key=a:b:step`), in
+//! process, each run in its own directory and one `sweep.csv` row per run. The validation
+//! (`crate::validate`) runs its studies through the same [`plan`] and [`run_set`].
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::output::summary::Summary;
+use crate::scene::{self, Backend, Scene, SceneError};
+use crate::solver::{self, RunError, RunOptions};
+
+/// Most runs one `--vary` may ask for: beyond it a slip in the step is likelier than a plan.
+pub const MAX_RUNS: usize = 200;
+
+/// `--vary key=a:b:step`: a scene key and the values a, a + step, … up to b inclusive.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vary {
+    pub key: String,
+    pub values: Vec<f64>,
+}
+
+impl Vary {
+    /// Parses `key=a:b:step` (a ≤ b, step > 0, at most [`MAX_RUNS`] values).
+    pub fn parse(spec: &str) -> Result<Vary, SweepError> {
+        let bad = |why: String| SweepError::Spec(format!("--vary {spec}: {why}"));
+        let (key, range) = spec.split_once('=').ok_or_else(|| {
+            bad("expected key=a:b:step, e.g. projectile.velocity=200:800:100".into())
+        })?;
+        let key = key.trim();
+        if key.is_empty() || key.contains(char::is_whitespace) {
+            return Err(bad(
+                "the key before `=` must be a scene key such as projectile.velocity".into(),
+            ));
+        }
+        let parts: Vec<&str> = range.split(':').map(str::trim).collect();
+        if parts.len() != 3 {
+            return Err(bad(format!(
+                "the range must be a:b:step, three numbers separated by colons (found {} part{})",
+                parts.len(),
+                if parts.len() == 1 { "" } else { "s" }
+            )));
+        }
+        let number = |name: &str, text: &str| -> Result<f64, SweepError> {
+            match text.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(bad(format!("{name} = `{text}` is not a finite number"))),
+            }
+        };
+        let (a, b, step) = (
+            number("a", parts[0])?,
+            number("b", parts[1])?,
+            number("step", parts[2])?,
+        );
+        if step <= 0.0 {
+            return Err(bad(format!("step = {step} must be > 0")));
+        }
+        if b < a {
+            return Err(bad(format!(
+                "empty range: b = {b} is below a = {a}; write the smaller value first"
+            )));
+        }
+        // A relative slack so that 0.1:0.3:0.1 reaches 0.3 despite binary round-off.
+        let intervals = ((b - a) / step * (1.0 + 1e-9)).floor();
+        if intervals + 1.0 > MAX_RUNS as f64 {
+            return Err(bad(format!(
+                "gives {} runs, more than the {MAX_RUNS} a sweep allows; use a larger step",
+                intervals + 1.0
+            )));
+        }
+        let values = (0..=intervals as usize)
+            .map(|i| tidy(a + i as f64 * step))
+            .collect();
+        Ok(Vary {
+            key: key.to_string(),
+            values,
+        })
+    }
+
+    /// The `--set` override of value `v`.
+    pub fn set(&self, v: f64) -> String {
+        format!("{}={v}", self.key)
+    }
+
+    /// A run's directory name: the key's last part and the value, e.g. `velocity-300`.
+    pub fn label(&self, v: f64) -> String {
+        let last = self.key.rsplit('.').next().unwrap_or(&self.key);
+        format!("{last}-{v}")
+    }
+}
+
+/// `v` rounded to 12 significant digits: drops the binary noise of `a + i·step`
+/// (0.30000000000000004) and of scaled resolutions, so overrides and labels read as written.
+pub fn tidy(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
+/// Why a sweep (or a set of runs) could not be run. A run that goes unstable is not an error:
+/// its record says so.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SweepError {
+    /// A malformed `--vary` specification.
+    Spec(String),
+    /// A scene that does not load with its overrides.
+    Scene(SceneError),
+    /// The backend asked for cannot run (no GPU adapter).
+    Backend(String),
+    /// Output could not be written.
+    Io(String),
+}
+
+impl SweepError {
+    /// The command line's exit code: 2 bad input, 3 output not writable.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            SweepError::Io(_) => 3,
+            _ => 2,
+        }
+    }
+}
+
+impl fmt::Display for SweepError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SweepError::Spec(m) | SweepError::Backend(m) | SweepError::Io(m) => f.write_str(m),
+            SweepError::Scene(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for SweepError {}
+
+/// One run of a set: `case` with `overrides` (applied in order, as `--set`) on `backend`,
+/// writing its outputs into `dir`.
+#[derive(Clone, Debug)]
+pub struct RunSpec {
+    pub label: String,
+    pub case: PathBuf,
+    pub overrides: Vec<String>,
+    pub backend: Backend,
+    pub dir: PathBuf,
+}
+
+/// A run whose scene has been loaded and checked.
+#[derive(Clone, Debug)]
+pub struct Planned {
+    pub spec: RunSpec,
+    pub scene: Scene,
+}
+
+/// Loads every run's scene, so that a bad file or override stops the set before anything runs.
+pub fn plan(specs: Vec<RunSpec>) -> Result<Vec<Planned>, SweepError> {
+    specs
+        .into_iter()
+        .map(|spec| {
+            let scene = scene::load(&spec.case, &spec.overrides).map_err(SweepError::Scene)?;
+            Ok(Planned { spec, scene })
+        })
+        .collect()
+}
+
+/// What one run produced: its summary (also when it stopped early: `status` says why), or why
+/// it could not start.
+#[derive(Clone, Debug)]
+pub struct RunRecord {
+    pub label: String,
+    pub dir: PathBuf,
+    pub backend: Backend,
+    pub scene: Scene,
+    pub outcome: Result<Summary, String>,
+}
+
+impl RunRecord {
+    /// `completed`, the reason the run stopped, or why it could not start.
+    pub fn status(&self) -> &str {
+        match &self.outcome {
+            Ok(s) => &s.status,
+            Err(e) => e,
+        }
+    }
+
+    /// The summary of a run that ended normally.
+    pub fn completed(&self) -> Option<&Summary> {
+        self.outcome
+            .as_ref()
+            .ok()
+            .filter(|s| s.status == "completed")
+    }
+
+    /// The summary, however the run ended (`None` when it could not start).
+    pub fn summary(&self) -> Option<&Summary> {
+        self.outcome.as_ref().ok()
+    }
+}
+
+/// How every run of a set is run.
+#[derive(Clone, Debug, Default)]
+pub struct RunSettings {
+    /// Part of the GPU adapter's name (`--adapter`).
+    pub adapter: Option<String>,
+    /// Write VTK frames.
+    pub vtk: bool,
+}
+
+/// `cpu`, `gpu` or `auto`.
+pub fn backend_name(b: Backend) -> &'static str {
+    match b {
+        Backend::Cpu => "cpu",
+        Backend::Gpu => "gpu",
+        Backend::Auto => "auto",
+    }
+}
+
+/// `--backend gpu` needs an adapter: say so before the first run rather than in every row.
+pub fn check_backend(backend: Backend, adapter: Option<&str>) -> Result<(), SweepError> {
+    if backend == Backend::Gpu {
+        crate::gpu::Gpu::new(adapter).map_err(|e| {
+            SweepError::Backend(format!(
+                "--backend gpu: {e} (on Debian, `apt-get install mesa-vulkan-drivers` gives the \
+                 software adapter lavapipe; or use --backend cpu)"
+            ))
+        })?;
+    }
+    Ok(())
+}
+
+/// Runs `planned` one after another, in process. A run that goes unstable or cannot start is
+/// recorded and the set goes on; only an unwritable output stops it. `progress` sees each
+/// record as it is made.
+pub fn run_set(
+    planned: Vec<Planned>,
+    settings: &RunSettings,
+    mut progress: impl FnMut(&RunRecord),
+) -> Result<Vec<RunRecord>, SweepError> {
+    let mut records = Vec::with_capacity(planned.len());
+    for Planned { spec, scene } in planned {
+        let opts = RunOptions {
+            out: spec.dir.clone(),
+            quiet: true,
+            vtk: settings.vtk,
+            backend: Some(spec.backend),
+            adapter: settings.adapter.clone(),
+        };
+        let outcome = match solver::run(&scene, &opts) {
+            Ok(o) => Ok(o.summary),
+            Err(RunError::Io(m)) => return Err(SweepError::Io(m)),
+            Err(e) => Err(e.to_string()),
+        };
+        let record = RunRecord {
+            label: spec.label,
+            dir: spec.dir,
+            backend: spec.backend,
+            scene,
+            outcome,
+        };
+        progress(&record);
+        records.push(record);
+    }
+    Ok(records)
+}
+
+/// Default output directory of a sweep: `runs/<case file stem>-<key's last part>`.
+pub fn default_out(case: &Path, vary: &Vary) -> PathBuf {
+    let stem = case
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let last = vary.key.rsplit('.').next().unwrap_or(&vary.key);
+    PathBuf::from("runs").join(format!("{stem}-{last}"))
+}
+
+/// `penetrate sweep`: `case` with the overrides `set`, then each value of `vary`, on `backend`
+/// (`None`: the scene's `run.backend`), each run in `out/<label>/`, and `out/sweep.csv`. Every
+/// scene is loaded before the first run.
+pub fn sweep(
+    case: &Path,
+    vary: &Vary,
+    set: &[String],
+    backend: Option<Backend>,
+    settings: &RunSettings,
+    out: &Path,
+    progress: impl FnMut(&RunRecord),
+) -> Result<Vec<RunRecord>, SweepError> {
+    let base = scene::load(case, set).map_err(SweepError::Scene)?;
+    let backend = backend.unwrap_or(base.run.backend);
+    check_backend(backend, settings.adapter.as_deref())?;
+    let specs = vary
+        .values
+        .iter()
+        .map(|&v| {
+            let mut overrides = set.to_vec();
+            overrides.push(vary.set(v));
+            RunSpec {
+                label: vary.label(v),
+                case: case.to_path_buf(),
+                overrides,
+                backend,
+                dir: out.join(vary.label(v)),
+            }
+        })
+        .collect();
+    let planned = plan(specs)?;
+    let io = |e: std::io::Error| SweepError::Io(format!("{}: {e}", out.display()));
+    std::fs::create_dir_all(out).map_err(io)?;
+    let records = run_set(planned, settings, progress)?;
+    let path = out.join("sweep.csv");
+    std::fs::write(&path, sweep_csv(vary, &records))
+        .map_err(|e| SweepError::Io(format!("{}: {e}", path.display())))?;
+    Ok(records)
+}
+
+/// The summary fields of a sweep row, after the varied value.
+const SUMMARY_COLUMNS: [&str; 14] = [
+    "status",
+    "depth_m",
+    "projectile_velocity_m_s",
+    "max_damage",
+    "max_plastic_strain",
+    "final_length_m",
+    "steps",
+    "particles",
+    "elements",
+    "wall_s",
+    "energy_error",
+    "momentum_error",
+    "backend",
+    "dir",
+];
+
+/// The summary fields of `r` in the order of [`SUMMARY_COLUMNS`] (empty where it could not
+/// start).
+fn summary_fields(r: &RunRecord) -> Vec<String> {
+    let dir = r.dir.display().to_string();
+    match &r.outcome {
+        Ok(s) => vec![
+            s.status.clone(),
+            s.depth_m.to_string(),
+            s.projectile_velocity_m_s.to_string(),
+            s.max_damage.to_string(),
+            s.max_plastic_strain.to_string(),
+            s.final_length_m.to_string(),
+            s.steps.to_string(),
+            s.particles.to_string(),
+            s.elements.to_string(),
+            s.wall_s.to_string(),
+            s.energy_error.to_string(),
+            s.momentum_error.to_string(),
+            s.backend.clone(),
+            dir,
+        ],
+        Err(e) => {
+            let mut row = vec![e.clone()];
+            row.resize(SUMMARY_COLUMNS.len() - 2, String::new());
+            row.extend([backend_name(r.backend).to_string(), dir]);
+            row
+        }
+    }
+}
+
+fn sweep_csv(vary: &Vary, records: &[RunRecord]) -> String {
+    let mut header = vec![vary.key.clone()];
+    header.extend(SUMMARY_COLUMNS.iter().map(|c| c.to_string()));
+    let mut text = csv_line(&header);
+    for (v, r) in vary.values.iter().zip(records) {
+        let mut row = vec![v.to_string()];
+        row.extend(summary_fields(r));
+        text += &csv_line(&row);
+    }
+    text
+}
+
+/// One CSV line (RFC 4180 quoting where a field needs it), with its newline.
+pub fn csv_line<S: AsRef<str>>(fields: &[S]) -> String {
+    let quoted: Vec<String> = fields
+        .iter()
+        .map(|f| {
+            let f = f.as_ref();
+            if f.contains([',', '"', '\n', '\r']) {
+                format!("\"{}\"", f.replace('"', "\"\""))
+            } else {
+                f.to_string()
+            }
+        })
+        .collect();
+    quoted.join(",") + "\n"
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_range_includes_both_ends_without_round_off() {
+        let v = Vary::parse("projectile.velocity=200:800:100").unwrap();
+        assert_eq!(v.key, "projectile.velocity");
+        assert_eq!(
+            v.values,
+            vec![200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0]
+        );
+        let v = Vary::parse("target.spacing=0.1:0.3:0.1").unwrap();
+        assert_eq!(v.values, vec![0.1, 0.2, 0.3]);
+        assert_eq!(v.label(0.3), "spacing-0.3");
+        assert_eq!(v.set(0.3), "target.spacing=0.3");
+        // b need not be on the grid; a single value is a range too.
+        assert_eq!(Vary::parse("k=1:2.5:1").unwrap().values, vec![1.0, 2.0]);
+        assert_eq!(Vary::parse("k=5:5:1").unwrap().values, vec![5.0]);
+    }
+
+    #[test]
+    fn malformed_specs_say_what_is_wrong() {
+        for (spec, says) in [
+            ("projectile.velocity", "expected key=a:b:step"),
+            ("=1:2:1", "scene key"),
+            ("k=1:2", "three numbers"),
+            ("k=1:2:3:4", "three numbers"),
+            ("k=a:2:1", "not a finite number"),
+            ("k=1:inf:1", "not a finite number"),
+            ("k=1:2:0", "must be > 0"),
+            ("k=1:2:-1", "must be > 0"),
+            ("k=3:2:1", "empty range"),
+            ("k=0:1000:1", "more than the 200"),
+        ] {
+            let e = Vary::parse(spec).unwrap_err().to_string();
+            assert!(e.contains(says), "{spec}: {e}");
+            assert!(e.starts_with(&format!("--vary {spec}")), "{e}");
+        }
+    }
+
+    #[test]
+    fn csv_fields_with_commas_are_quoted() {
+        assert_eq!(
+            csv_line(&["a", "b,c", "say \"x\""]),
+            "a,\"b,c\",\"say \"\"x\"\"\"\n"
+        );
+    }
+}

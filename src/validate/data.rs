@@ -1,0 +1,194 @@
+//! The measurements the validation compares with (`--data DIR`, `../shared/data` by default):
+//! Taylor bars (`taylor.csv`) and the Forrestal et al. (1994) shots (`forrestal1994.csv`). Both
+//! files name their columns in the last comment line before the data.
+
+use std::path::Path;
+
+use super::ValidateError;
+
+/// One Taylor impact test (Johnson & Cook 1983), SI units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaylorTest {
+    pub material: String,
+    pub diameter: f64,
+    pub length: f64,
+    pub velocity: f64,
+    pub final_length: f64,
+    pub mushroom_diameter: f64,
+}
+
+/// One Forrestal et al. (1994) shot, SI units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shot {
+    pub velocity: f64,
+    /// Measured projectile mass (kg).
+    pub mass: f64,
+    /// Unconfined compressive strength (Pa).
+    pub fc: f64,
+    /// Measured depth of penetration (m).
+    pub depth: f64,
+}
+
+pub const TAYLOR_FILE: &str = "taylor.csv";
+pub const FORRESTAL_FILE: &str = "forrestal1994.csv";
+
+pub fn taylor(dir: &Path) -> Result<Vec<TaylorTest>, ValidateError> {
+    let table = Table::read(&dir.join(TAYLOR_FILE))?;
+    let mm = 1e-3;
+    table.rows(|row| {
+        Ok(TaylorTest {
+            material: row.text("material")?,
+            diameter: row.number("diameter_mm")? * mm,
+            length: row.number("length_mm")? * mm,
+            velocity: row.number("velocity_m_s")?,
+            final_length: row.number("final_length_mm")? * mm,
+            mushroom_diameter: row.number("mushroom_diameter_mm")? * mm,
+        })
+    })
+}
+
+pub fn forrestal(dir: &Path) -> Result<Vec<Shot>, ValidateError> {
+    let table = Table::read(&dir.join(FORRESTAL_FILE))?;
+    table.rows(|row| {
+        Ok(Shot {
+            velocity: row.number("velocity_m_s")?,
+            mass: row.number("mass_kg")?,
+            fc: row.number("fc_MPa")? * 1e6,
+            depth: row.number("depth_m")?,
+        })
+    })
+}
+
+/// A data file: its column names (from the last comment line before the data) and its rows.
+struct Table {
+    file: String,
+    columns: Vec<String>,
+    /// (line number, fields)
+    rows: Vec<(usize, Vec<String>)>,
+}
+
+impl Table {
+    fn read(path: &Path) -> Result<Table, ValidateError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ValidateError::Input(format!(
+                "{file}: cannot read the data file ({e}); pass --data DIR, the folder with \
+                 {TAYLOR_FILE} and {FORRESTAL_FILE}"
+            ))
+        })?;
+        let split =
+            |s: &str| -> Vec<String> { s.split(',').map(|f| f.trim().to_string()).collect() };
+        let mut columns = Vec::new();
+        let mut rows = Vec::new();
+        for (i, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if let Some(comment) = line.strip_prefix('#') {
+                if rows.is_empty() && comment.contains(',') {
+                    columns = split(comment);
+                }
+            } else if !line.is_empty() {
+                rows.push((i + 1, split(line)));
+            }
+        }
+        if columns.is_empty() || rows.is_empty() {
+            return Err(ValidateError::Input(format!(
+                "{file}: expected a `# column,names` comment line followed by data rows"
+            )));
+        }
+        Ok(Table {
+            file,
+            columns,
+            rows,
+        })
+    }
+
+    fn rows<T>(
+        &self,
+        mut parse: impl FnMut(&Row) -> Result<T, ValidateError>,
+    ) -> Result<Vec<T>, ValidateError> {
+        self.rows
+            .iter()
+            .map(|(line, fields)| {
+                parse(&Row {
+                    table: self,
+                    line: *line,
+                    fields,
+                })
+            })
+            .collect()
+    }
+}
+
+struct Row<'a> {
+    table: &'a Table,
+    line: usize,
+    fields: &'a [String],
+}
+
+impl Row<'_> {
+    fn text(&self, column: &str) -> Result<String, ValidateError> {
+        let t = self.table;
+        let k = t.columns.iter().position(|c| c == column).ok_or_else(|| {
+            ValidateError::Input(format!(
+                "{}: no column `{column}` (columns: {})",
+                t.file,
+                t.columns.join(", ")
+            ))
+        })?;
+        self.fields.get(k).cloned().ok_or_else(|| {
+            ValidateError::Input(format!(
+                "{}:{}: the row has no `{column}` field",
+                t.file, self.line
+            ))
+        })
+    }
+
+    fn number(&self, column: &str) -> Result<f64, ValidateError> {
+        let text = self.text(column)?;
+        match text.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(ValidateError::Input(format!(
+                "{}:{}: {column} = `{text}` is not a number",
+                self.table.file, self.line
+            ))),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn columns_come_from_the_comment_line_before_the_data() {
+        let dir = std::env::temp_dir().join(format!("penetrate-data-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join(FORRESTAL_FILE),
+            "# a comment, with a comma\n# depth_m,velocity_m_s,mass_kg,fc_MPa\n0.2,300,0.9,35\n",
+        )
+        .unwrap();
+        let shots = forrestal(&dir).unwrap();
+        assert_eq!(
+            shots,
+            vec![Shot {
+                velocity: 300.0,
+                mass: 0.9,
+                fc: 35e6,
+                depth: 0.2
+            }]
+        );
+        std::fs::write(dir.join(FORRESTAL_FILE), "# velocity_m_s,mass_kg\nfast,1\n").unwrap();
+        let e = forrestal(&dir).unwrap_err().to_string();
+        assert!(
+            e.contains("forrestal1994.csv:2: velocity_m_s = `fast`"),
+            "{e}"
+        );
+        let e = taylor(&dir).unwrap_err().to_string();
+        assert!(
+            e.contains("cannot read the data file") && e.contains("--data"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

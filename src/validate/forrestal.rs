@@ -1,0 +1,83 @@
+//! Forrestal's penetration equation for a rigid ogive-nosed projectile into concrete
+//! (Forrestal, Altman, Cargile & Hanchak 1994; physics.md §8). It was fitted to the same family
+//! of tests as the shots it is compared with: a cross-check, not truth.
+
+/// The equation's inputs besides the striking speed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inputs {
+    /// Projectile mass m (kg).
+    pub mass: f64,
+    /// Shank radius a (m).
+    pub shank_radius: f64,
+    /// Calibre-radius-head ψ of the ogive nose.
+    pub crh: f64,
+    /// Target density ρ (kg/m³).
+    pub density: f64,
+    /// Unconfined compressive strength f_c (Pa).
+    pub fc: f64,
+}
+
+impl Inputs {
+    /// Nose factor `N = (8ψ − 1)/(24ψ²)`.
+    pub fn nose_factor(&self) -> f64 {
+        (8.0 * self.crh - 1.0) / (24.0 * self.crh * self.crh)
+    }
+
+    /// Empirical strength factor `S = 82.6 f_c^−0.544`, f_c in MPa.
+    pub fn strength_factor(&self) -> f64 {
+        82.6 * (self.fc * 1e-6).powf(-0.544)
+    }
+
+    /// Final depth (m) at striking speed `vs` (m/s):
+    /// `P = (m/(2πa²ρN)) ln(1 + NρV₁²/(S f_c)) + 4a`,
+    /// `V₁² = (mV_s² − 4πa³S f_c)/(m + 4πa³ρN)` (the speed left after the 4a-deep crater).
+    /// `None` when V₁² ≤ 0: the projectile stops inside the crater, outside the tunnel law.
+    pub fn depth(&self, vs: f64) -> Option<f64> {
+        let (m, a, rho) = (self.mass, self.shank_radius, self.density);
+        let n = self.nose_factor();
+        let resistance = self.strength_factor() * self.fc;
+        let k = 4.0 * std::f64::consts::PI * a.powi(3);
+        let v1_sq = (m * vs * vs - k * resistance) / (m + k * rho * n);
+        if v1_sq <= 0.0 {
+            return None;
+        }
+        let scale = m / (2.0 * std::f64::consts::PI * a * a * rho * n);
+        Some(scale * (n * rho * v1_sq / resistance).ln_1p() + 4.0 * a)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 277 m/s shot (forrestal1994.csv: m = 0.906 kg, f_c = 35.2 MPa; a = 13.45 mm, ψ = 2,
+    /// ρ = 2370 kg/m³), by hand:
+    ///   N = (16 − 1)/96 = 0.15625
+    ///   S = 82.6 · 35.2^−0.544 = 82.6 · exp(−0.544 · 3.56105) = 82.6 · 0.144106 = 11.9031
+    ///   S f_c = 4.18990e8 Pa;  4πa³ = 4π · 2.43314e-6 = 3.05757e-5 m³
+    ///   V₁² = (0.906 · 277² − 3.05757e-5 · 4.18990e8) / (0.906 + 3.05757e-5 · 2370 · 0.15625)
+    ///       = (69516.47 − 12810.92) / (0.906 + 0.0113226) = 56705.56 / 0.9173226 = 61816.4 m²/s²
+    ///   m/(2πa²ρN) = 0.906 / (2π · 1.80903e-4 · 2370 · 0.15625) = 0.906 / 0.420912 = 2.15246 m
+    ///   NρV₁²/(S f_c) = 370.3125 · 61816.4 / 4.18990e8 = 0.0546347
+    ///   P = 2.15246 · ln(1.0546347) + 4 · 0.01345 = 2.15246 · 0.0531946 + 0.0538 = 0.16830 m
+    /// (measured: 0.173 m).
+    #[test]
+    fn depth_matches_the_hand_calculation() {
+        let shot = Inputs {
+            mass: 0.906,
+            shank_radius: 0.01345,
+            crh: 2.0,
+            density: 2370.0,
+            fc: 35.2e6,
+        };
+        assert_eq!(shot.nose_factor(), 0.15625);
+        assert!((shot.strength_factor() - 11.9031).abs() < 1e-4);
+        let p = shot.depth(277.0).unwrap();
+        assert!((p - 0.16830).abs() < 2e-5, "{p}");
+        // Deeper when faster; none below the crater's threshold speed (V₁² = 0 at
+        // sqrt(12810.92/0.906) = 118.9 m/s).
+        assert!(shot.depth(499.0).unwrap() > p);
+        assert!(shot.depth(118.0).is_none());
+        assert!(shot.depth(120.0).unwrap() > 4.0 * 0.01345);
+    }
+}

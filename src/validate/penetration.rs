@@ -1,0 +1,636 @@
+//! The Forrestal et al. (1994) shots: depth against the measurements and Forrestal's equation,
+//! the target-size check, and depth error against run time at four resolutions per backend.
+
+use crate::plot::{Chart, Mark};
+use crate::scene::{ProjectileShape, Scene};
+use crate::sweep::{self, RunRecord};
+
+use super::data::{self, Shot};
+use super::forrestal;
+use super::{or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
+
+/// The shots of the convergence and rigid-against-elastic studies (m/s), as the issue names
+/// them; the target-size check uses the first.
+pub const STUDY_SHOTS: [f64; 2] = [277.0, 642.0];
+
+/// The issue's targets: every shot within 15 % of its measured depth; the target 1.5× larger
+/// changes the depth by less than 2 %; CPU and GPU at one resolution within 0.5 %.
+const SHOT_TOLERANCE: f64 = 0.15;
+const TARGET_SIZE_TOLERANCE: f64 = 0.02;
+const BACKEND_TOLERANCE: f64 = 0.005;
+
+/// How much larger (radius and thickness) the target of the size check is.
+const TARGET_GROWTH: f64 = 1.5;
+
+/// A shot of `forrestal1994.csv` and its scene, `forrestal1994-<velocity>.toml`.
+pub(super) struct ShotCase {
+    pub file: String,
+    pub shot: Shot,
+    /// The scene with the run's base overrides (the quick target, in `--quick`).
+    pub scene: Scene,
+}
+
+impl ShotCase {
+    /// Forrestal's equation's inputs: the measured mass and f_c, the scene's shank, nose and
+    /// concrete density.
+    fn equation(&self) -> Result<forrestal::Inputs, ValidateError> {
+        let p = &self.scene.projectile;
+        let ProjectileShape::Ogive { crh } = p.shape else {
+            return Err(ValidateError::Input(format!(
+                "cases/{}: Forrestal's equation needs an ogive nose",
+                self.file
+            )));
+        };
+        let density = self
+            .scene
+            .target
+            .as_ref()
+            .map_or(0.0, |t| t.concrete.density as f64);
+        Ok(forrestal::Inputs {
+            mass: self.shot.mass,
+            shank_radius: 0.5 * p.diameter,
+            crh,
+            density,
+            fc: self.shot.fc,
+        })
+    }
+}
+
+/// Every shot of the data file with its scene.
+pub(super) fn shots(ctx: &Context) -> Result<Vec<ShotCase>, ValidateError> {
+    data::forrestal(&ctx.opts.data)?
+        .into_iter()
+        .map(|shot| shot_case(ctx, shot))
+        .collect()
+}
+
+/// The shot of the data file struck at `velocity`.
+pub(super) fn study_shot(ctx: &Context, velocity: f64) -> Result<ShotCase, ValidateError> {
+    let shot = data::forrestal(&ctx.opts.data)?
+        .into_iter()
+        .find(|s| s.velocity == velocity)
+        .ok_or_else(|| {
+            ValidateError::Input(format!(
+                "{}: no shot at {velocity} m/s, which the studies use",
+                ctx.opts.data.join(data::FORRESTAL_FILE).display()
+            ))
+        })?;
+    shot_case(ctx, shot)
+}
+
+fn shot_case(ctx: &Context, shot: Shot) -> Result<ShotCase, ValidateError> {
+    let file = format!("forrestal1994-{}.toml", shot.velocity);
+    let scene = ctx.scene(&file, &ctx.settings.forrestal)?;
+    let fc = scene.target.as_ref().map(|t| t.concrete.fc as f64);
+    let agrees = fc.is_some_and(|fc| (fc - shot.fc).abs() <= 1e-6 * shot.fc)
+        && scene.projectile.velocity == shot.velocity;
+    if !agrees {
+        return Err(ValidateError::Input(format!(
+            "cases/{file} is not the {} m/s shot of {} (striking speed {} m/s and f_c {} MPa \
+             there, {} m/s and {} MPa in the data)",
+            shot.velocity,
+            data::FORRESTAL_FILE,
+            scene.projectile.velocity,
+            fc.map_or(0.0, |f| f * 1e-6),
+            shot.velocity,
+            shot.fc * 1e-6
+        )));
+    }
+    Ok(ShotCase { file, shot, scene })
+}
+
+/// The run of a shot at the base settings.
+fn shot_ask(ctx: &Context, c: &ShotCase, extra: &[String]) -> Ask {
+    let mut overrides = ctx.settings.forrestal.clone();
+    overrides.extend_from_slice(extra);
+    Ask {
+        label: format!("v{}", c.shot.velocity),
+        case: c.file.clone(),
+        overrides,
+        backend: ctx.primary(),
+    }
+}
+
+pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
+    let section = Section::Forrestal;
+    let cases = shots(ctx)?;
+    let asks = cases.iter().map(|c| shot_ask(ctx, c, &[])).collect();
+    let records = ctx.run(section, asks, false)?;
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    let (mut measured, mut equation, mut simulated) = (Vec::new(), Vec::new(), Vec::new());
+    let mut errors = Vec::new();
+    let mut equation_errors = Vec::new();
+    for (c, r) in cases.iter().zip(&records) {
+        let v = c.shot.velocity;
+        let predicted = c.equation()?.depth(v);
+        let depth = r.completed().map(|s| s.depth_m);
+        let error = depth.map(|d| d / c.shot.depth - 1.0);
+        let vs_equation = depth.zip(predicted).map(|(d, p)| d / p - 1.0);
+        errors.push(error);
+        if let Some(p) = predicted {
+            equation_errors.push(p / c.shot.depth - 1.0);
+            equation.push((v, p));
+        }
+        measured.push((v, c.shot.depth));
+        if let Some(d) = depth {
+            simulated.push((v, d));
+        }
+        let s = r.summary();
+        rows.push(vec![
+            v.to_string(),
+            c.shot.mass.to_string(),
+            c.shot.fc.to_string(),
+            c.shot.depth.to_string(),
+            or_dash(predicted, |p| p.to_string()),
+            or_dash(s, |s| s.depth_m.to_string()),
+            or_dash(error, |e| e.to_string()),
+            or_dash(vs_equation, |e| e.to_string()),
+            r.status().to_string(),
+            or_dash(s, |s| s.particles.to_string()),
+            or_dash(s, |s| s.elements.to_string()),
+            or_dash(s, |s| s.steps.to_string()),
+            or_dash(s, |s| s.wall_s.to_string()),
+            ctx.rel(&r.dir),
+        ]);
+        table_rows.push(vec![
+            format!("{v}"),
+            format!("{:.1}", c.shot.fc * 1e-6),
+            format!("{:.3}", c.shot.depth),
+            or_dash(predicted, |p| format!("{p:.3}")),
+            or_dash(s, |s| format!("{:.3}", s.depth_m)),
+            or_dash(error, pct),
+            or_dash(vs_equation, pct),
+            or_dash(s, |s| format!("{:.0}", s.wall_s)),
+            r.status().to_string(),
+        ]);
+    }
+    let complete: Vec<f64> = errors.iter().flatten().copied().collect();
+    let mean_abs = |e: &[f64]| e.iter().map(|x| x.abs()).sum::<f64>() / e.len().max(1) as f64;
+    let all_ran = complete.len() == errors.len();
+    let check = Check {
+        section,
+        what: format!("depth of each of the {} shots", errors.len()),
+        target: format!(
+            "every shot within {:.0} % of measured",
+            100.0 * SHOT_TOLERANCE
+        ),
+        result: format!(
+            "{}; mean absolute error {:.1} %",
+            errors
+                .iter()
+                .map(|e| or_dash(*e, pct))
+                .collect::<Vec<_>>()
+                .join(", "),
+            100.0 * mean_abs(&complete)
+        ),
+        pass: all_ran.then(|| complete.iter().all(|e| e.abs() <= SHOT_TOLERANCE)),
+    };
+    let csv = ctx.csv(
+        section,
+        "forrestal.csv",
+        &[
+            "velocity_m_s",
+            "mass_kg",
+            "fc_pa",
+            "measured_depth_m",
+            "equation_depth_m",
+            "depth_m",
+            "error_vs_measured",
+            "error_vs_equation",
+            "status",
+            "particles",
+            "elements",
+            "steps",
+            "wall_s",
+            "dir",
+        ],
+        &rows,
+    )?;
+    let plot = ctx.plot(
+        section,
+        "depth-vs-velocity.png",
+        &Chart::new(
+            "Forrestal et al. (1994): depth against striking speed",
+            "striking speed (m/s)",
+            "depth of penetration (m)",
+        )
+        .series("measured", measured, Mark::Points)
+        .series("Forrestal's equation", equation, Mark::LinePoints)
+        .series("simulated", simulated, Mark::LinePoints),
+    )?;
+    let scenes: Vec<&Scene> = cases.iter().map(|c| &c.scene).collect();
+    let one_set = scenes.windows(2).all(|w| {
+        w[0].projectile.material == w[1].projectile.material && w[0].contact == w[1].contact
+    });
+    let mut md =
+        format!(
+        "Each shot's scene (`cases/forrestal1994-<speed>.toml`) as shipped{}, on {}. Parameter \
+         set: projectile material preset `{}`, λ = {}, concrete from the f_c rule; {}. \
+         Forrestal's equation (physics.md §8) takes the measured mass and f_c, the scene's shank \
+         radius, CRH and concrete density. Target: every shot within {:.0} %. Mean absolute error of \
+         the simulation {:.1} % over {} shot(s) that completed, of the equation {:.1} %. Raw data: \
+         {csv}.\n\n",
+        if ctx.settings.quick { " with the quick overrides" } else { "" },
+        sweep::backend_name(ctx.primary()),
+        scenes.first().map_or("", |s| s.projectile.material.preset.as_str()),
+        scenes.first().map_or(0.0, |s| s.contact.lambda),
+        if one_set {
+            "the same projectile material and contact in every shot"
+        } else {
+            "**the scenes differ in projectile material or contact: not one parameter set**"
+        },
+        100.0 * SHOT_TOLERANCE,
+        100.0 * mean_abs(&complete),
+        complete.len(),
+        100.0 * mean_abs(&equation_errors),
+    );
+    md += &table(
+        &[
+            "speed (m/s)",
+            "f_c (MPa)",
+            "measured (m)",
+            "equation (m)",
+            "simulated (m)",
+            "vs measured",
+            "vs equation",
+            "wall (s)",
+            "status",
+        ],
+        &table_rows,
+    );
+    md += &plot;
+    Ok(SectionOut {
+        markdown: md,
+        checks: vec![check],
+    })
+}
+
+pub(super) fn target_size(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
+    let section = Section::TargetSize;
+    let c = study_shot(ctx, STUDY_SHOTS[0])?;
+    let (radius, thickness) = c
+        .scene
+        .target
+        .as_ref()
+        .map_or((0.0, 0.0), |t| (t.radius, t.thickness));
+    let (big_r, big_t) = (
+        sweep::tidy(TARGET_GROWTH * radius),
+        sweep::tidy(TARGET_GROWTH * thickness),
+    );
+    let mut large = shot_ask(
+        ctx,
+        &c,
+        &[
+            format!("target.radius={big_r}"),
+            format!("target.thickness={big_t}"),
+        ],
+    );
+    large.label += "-large";
+    let asks = vec![shot_ask(ctx, &c, &[]), large];
+    let records = ctx.run(section, asks, false)?;
+    let sizes = [(radius, thickness), (big_r, big_t)];
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    for ((r, t), rec) in sizes.iter().zip(&records) {
+        let s = rec.summary();
+        rows.push(vec![
+            r.to_string(),
+            t.to_string(),
+            or_dash(s, |s| s.particles.to_string()),
+            or_dash(s, |s| s.depth_m.to_string()),
+            rec.status().to_string(),
+            or_dash(s, |s| s.wall_s.to_string()),
+            ctx.rel(&rec.dir),
+        ]);
+        table_rows.push(vec![
+            format!("{r}"),
+            format!("{t}"),
+            or_dash(s, |s| s.particles.to_string()),
+            or_dash(s, |s| format!("{:.4}", s.depth_m)),
+            or_dash(s, |s| format!("{:.1}", s.wall_s)),
+            rec.status().to_string(),
+        ]);
+    }
+    let depth = |k: usize| {
+        records
+            .get(k)
+            .and_then(RunRecord::completed)
+            .map(|s| s.depth_m)
+    };
+    let change = depth(0).zip(depth(1)).map(|(a, b)| b / a - 1.0);
+    let csv = ctx.csv(
+        section,
+        "target-size.csv",
+        &[
+            "radius_m",
+            "thickness_m",
+            "particles",
+            "depth_m",
+            "status",
+            "wall_s",
+            "dir",
+        ],
+        &rows,
+    )?;
+    let check = Check {
+        section,
+        what: format!(
+            "{} m/s shot, target radius and thickness ×{TARGET_GROWTH}",
+            c.shot.velocity
+        ),
+        target: format!("depth changes < {:.0} %", 100.0 * TARGET_SIZE_TOLERANCE),
+        result: or_dash(change, pct),
+        pass: change.map(|x| x.abs() < TARGET_SIZE_TOLERANCE),
+    };
+    let mut md = format!(
+        "The {} m/s shot in its target and in one {TARGET_GROWTH}× wider and thicker, on {} \
+         (boundary conditions as in the scene). Depth change {} ({}). Raw data: {csv}.\n\n",
+        c.shot.velocity,
+        sweep::backend_name(ctx.primary()),
+        or_dash(change, pct),
+        match check.pass {
+            Some(true) => "pass",
+            Some(false) => "fail",
+            None => "not evaluated: a run did not complete",
+        }
+    );
+    md += &table(
+        &[
+            "radius (m)",
+            "thickness (m)",
+            "particles",
+            "depth (m)",
+            "wall (s)",
+            "status",
+        ],
+        &table_rows,
+    );
+    Ok(SectionOut {
+        markdown: md,
+        checks: vec![check],
+    })
+}
+
+/// One convergence run and what it is compared with.
+struct Level<'a> {
+    velocity: f64,
+    measured: f64,
+    factor: f64,
+    record: &'a RunRecord,
+    /// Depth of the finest completed run of the same shot and backend.
+    finest: Option<f64>,
+}
+
+impl Level<'_> {
+    fn depth(&self) -> Option<f64> {
+        self.record.completed().map(|s| s.depth_m)
+    }
+
+    fn error(&self) -> Option<f64> {
+        self.depth().map(|d| d / self.measured - 1.0)
+    }
+
+    fn error_vs_finest(&self) -> Option<f64> {
+        self.depth().zip(self.finest).map(|(d, f)| d / f - 1.0)
+    }
+}
+
+pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
+    let section = Section::Convergence;
+    let factors = ctx.settings.convergence_factors;
+    let mut runs = Vec::new();
+    for v in STUDY_SHOTS {
+        let c = study_shot(ctx, v)?;
+        let spacing = c.scene.target.as_ref().map_or(0.0, |t| t.spacing);
+        let element = c.scene.projectile.element_size;
+        for &backend in &ctx.opts.backends.clone() {
+            let asks = factors
+                .iter()
+                .map(|f| {
+                    let mut a = shot_ask(
+                        ctx,
+                        &c,
+                        &[
+                            format!("target.spacing={}", sweep::tidy(f * spacing)),
+                            format!("projectile.element_size={}", sweep::tidy(f * element)),
+                        ],
+                    );
+                    a.label += &format!("-x{f}");
+                    a.backend = backend;
+                    a
+                })
+                .collect();
+            let records = ctx.run(section, asks, false)?;
+            runs.push((c.shot.clone(), records));
+        }
+    }
+    let mut levels = Vec::new();
+    for (shot, records) in &runs {
+        let finest = factors
+            .iter()
+            .zip(records)
+            .filter(|(_, r)| r.completed().is_some())
+            .min_by(|a, b| a.0.total_cmp(b.0))
+            .and_then(|(_, r)| r.completed().map(|s| s.depth_m));
+        for (&factor, record) in factors.iter().zip(records) {
+            levels.push(Level {
+                velocity: shot.velocity,
+                measured: shot.depth,
+                factor,
+                record,
+                finest,
+            });
+        }
+    }
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    for l in &levels {
+        let r = l.record;
+        let s = r.summary();
+        let spacing = r.scene.target.as_ref().map_or(0.0, |t| t.spacing);
+        let element = r.scene.projectile.element_size;
+        rows.push(vec![
+            l.velocity.to_string(),
+            sweep::backend_name(r.backend).to_string(),
+            l.factor.to_string(),
+            spacing.to_string(),
+            element.to_string(),
+            or_dash(s, |s| s.particles.to_string()),
+            or_dash(s, |s| s.elements.to_string()),
+            or_dash(s, |s| s.steps.to_string()),
+            or_dash(s, |s| s.wall_s.to_string()),
+            or_dash(s, |s| s.depth_m.to_string()),
+            l.measured.to_string(),
+            or_dash(l.error(), |e| e.to_string()),
+            or_dash(l.error_vs_finest(), |e| e.to_string()),
+            r.status().to_string(),
+            ctx.rel(&r.dir),
+        ]);
+        table_rows.push(vec![
+            format!("{}", l.velocity),
+            sweep::backend_name(r.backend).to_string(),
+            format!("{:.1} / {:.2}", spacing * 1e3, element * 1e3),
+            or_dash(s, |s| s.particles.to_string()),
+            or_dash(s, |s| s.elements.to_string()),
+            or_dash(s, |s| s.steps.to_string()),
+            or_dash(s, |s| format!("{:.1}", s.wall_s)),
+            or_dash(l.depth(), |d| format!("{d:.4}")),
+            or_dash(l.error(), pct),
+            or_dash(l.error_vs_finest(), pct),
+            r.status().to_string(),
+        ]);
+    }
+    let csv = ctx.csv(
+        section,
+        "convergence.csv",
+        &[
+            "velocity_m_s",
+            "backend",
+            "factor",
+            "spacing_m",
+            "element_size_m",
+            "particles",
+            "elements",
+            "steps",
+            "wall_s",
+            "depth_m",
+            "measured_depth_m",
+            "error_vs_measured",
+            "error_vs_finest",
+            "status",
+            "dir",
+        ],
+        &rows,
+    )?;
+    // One curve per shot and backend, |error| in per cent against wall time (log–log: a
+    // zero error, the finest run against itself, has no point).
+    let curves = |error: fn(&Level) -> Option<f64>| {
+        let mut chart_series = Vec::new();
+        for (shot, records) in &runs {
+            let Some(backend) = records.first().map(|r| r.backend) else {
+                continue;
+            };
+            let mut points: Vec<(f64, f64)> = levels
+                .iter()
+                .filter(|l| l.velocity == shot.velocity && l.record.backend == backend)
+                .filter_map(|l| {
+                    let wall = l.record.completed()?.wall_s;
+                    let e = 100.0 * error(l)?.abs();
+                    (e > 0.0 && wall > 0.0).then_some((wall, e))
+                })
+                .collect();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            chart_series.push((
+                format!("{} m/s, {}", shot.velocity, sweep::backend_name(backend)),
+                points,
+            ));
+        }
+        chart_series
+    };
+    let chart = |title: &str, y: &str, series: Vec<(String, Vec<(f64, f64)>)>| {
+        series.into_iter().fold(
+            Chart::new(title, "wall time (s)", y).log_x().log_y(),
+            |c, (label, points)| c.series(&label, points, Mark::LinePoints),
+        )
+    };
+    let measured_plot = ctx.plot(
+        section,
+        "error-vs-time.png",
+        &chart(
+            "Depth error against run time",
+            "|depth error vs measured| (%)",
+            curves(|l: &Level| l.error()),
+        ),
+    )?;
+    let finest_plot = ctx.plot(
+        section,
+        "error-vs-finest.png",
+        &chart(
+            "Depth change from the finest run against run time",
+            "|depth − finest depth| / finest depth (%)",
+            curves(|l: &Level| l.error_vs_finest()),
+        ),
+    )?;
+    // CPU against GPU at the same shot and resolution, where both completed.
+    let mut checks = Vec::new();
+    for v in STUDY_SHOTS {
+        let pairs: Vec<(f64, f64)> = factors
+            .iter()
+            .filter_map(|&f| {
+                let depth = |b: &str| {
+                    levels
+                        .iter()
+                        .find(|l| {
+                            l.velocity == v
+                                && l.factor == f
+                                && sweep::backend_name(l.record.backend) == b
+                        })
+                        .and_then(Level::depth)
+                };
+                Some((f, depth("gpu")? / depth("cpu")? - 1.0))
+            })
+            .collect();
+        if pairs.is_empty() {
+            continue;
+        }
+        let worst = pairs.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+        checks.push(Check {
+            section,
+            what: format!(
+                "{v} m/s: GPU against CPU depth at {} resolution(s)",
+                pairs.len()
+            ),
+            target: format!("within {:.1} %", 100.0 * BACKEND_TOLERANCE),
+            result: pairs
+                .iter()
+                .map(|(f, d)| format!("×{f}: {:+.3} %", 100.0 * d))
+                .collect::<Vec<_>>()
+                .join(", "),
+            pass: Some(worst <= BACKEND_TOLERANCE),
+        });
+    }
+    let mut md = format!(
+        "The {} m/s shots with the lattice spacing and the element size scaled together by {} \
+         (× the Forrestal section's), on {}. The error against the finest run is against the \
+         finest completed run of the same shot and backend. Target: CPU and GPU depths at one \
+         resolution within {:.1} % where both ran{}. Raw data: {csv}.\n\n",
+        STUDY_SHOTS.map(|v| v.to_string()).join(" and "),
+        factors.map(|f| f.to_string()).join(", "),
+        ctx.opts
+            .backends
+            .iter()
+            .map(|&b| sweep::backend_name(b))
+            .collect::<Vec<_>>()
+            .join(" and "),
+        100.0 * BACKEND_TOLERANCE,
+        if checks.is_empty() {
+            " (one backend ran: not evaluated)"
+        } else {
+            ""
+        }
+    );
+    md += &table(
+        &[
+            "speed (m/s)",
+            "backend",
+            "Δ / element (mm)",
+            "particles",
+            "elements",
+            "steps",
+            "wall (s)",
+            "depth (m)",
+            "vs measured",
+            "vs finest",
+            "status",
+        ],
+        &table_rows,
+    );
+    md += &measured_plot;
+    md += "\n";
+    md += &finest_plot;
+    Ok(SectionOut {
+        markdown: md,
+        checks,
+    })
+}

@@ -1,0 +1,213 @@
+//! Taylor bars (`taylor.csv`): final length and mushroom diameter against the measurement at
+//! three element sizes.
+
+use crate::plot::{Chart, Mark};
+use crate::sweep;
+
+use super::{data, or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
+
+/// The Taylor scenes and the `taylor.csv` material each reproduces.
+pub const CASES: [(&str, &str); 2] = [
+    ("taylor-4340-208.toml", "steel-4340"),
+    ("taylor-copper-190.toml", "copper-ofhc"),
+];
+
+/// The issue's target: final length within 3 % of the measurement at the finest mesh.
+const LENGTH_TOLERANCE: f64 = 0.03;
+
+pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
+    let section = Section::Taylor;
+    let tests = data::taylor(&ctx.opts.data)?;
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    let mut checks = Vec::new();
+    let mut length_series = Vec::new();
+    let mut diameter_series = Vec::new();
+    for (file, material) in CASES {
+        let test = tests
+            .iter()
+            .find(|t| t.material == material)
+            .ok_or_else(|| {
+                ValidateError::Input(format!(
+                    "{}: no row for {material} (the measurement of cases/{file})",
+                    ctx.opts.data.join(data::TAYLOR_FILE).display()
+                ))
+            })?;
+        let base = ctx.scene(file, &[])?;
+        let p = &base.projectile;
+        let agrees = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b.abs();
+        if !(agrees(p.diameter, test.diameter)
+            && agrees(p.length, test.length)
+            && agrees(p.velocity, test.velocity))
+        {
+            return Err(ValidateError::Input(format!(
+                "cases/{file} ({} mm × {} mm at {} m/s) is not the {material} test of {} \
+                 ({} mm × {} mm at {} m/s)",
+                p.diameter * 1e3,
+                p.length * 1e3,
+                p.velocity,
+                data::TAYLOR_FILE,
+                test.diameter * 1e3,
+                test.length * 1e3,
+                test.velocity
+            )));
+        }
+        let sizes: Vec<f64> = ctx
+            .settings
+            .taylor_factors
+            .iter()
+            .map(|f| sweep::tidy(f * p.element_size))
+            .collect();
+        let asks = sizes
+            .iter()
+            .map(|&h| Ask {
+                label: format!("{}-{}mm", base.name, sweep::tidy(h * 1e3)),
+                case: file.to_string(),
+                overrides: vec![format!("projectile.element_size={h}")],
+                backend: ctx.primary(),
+            })
+            .collect();
+        let records = ctx.run(section, asks, false)?;
+        let mut lengths = Vec::new();
+        let mut diameters = Vec::new();
+        for (&h, r) in sizes.iter().zip(&records) {
+            let done = r.completed();
+            let length_error = done.map(|s| s.final_length_m / test.final_length - 1.0);
+            let diameter_error = done.map(|s| 2.0 * s.max_radius_m / test.mushroom_diameter - 1.0);
+            if let (Some(l), Some(d)) = (length_error, diameter_error) {
+                lengths.push((h * 1e3, 100.0 * l));
+                diameters.push((h * 1e3, 100.0 * d));
+            }
+            let s = r.summary();
+            rows.push(vec![
+                base.name.clone(),
+                material.to_string(),
+                h.to_string(),
+                or_dash(s, |s| s.elements.to_string()),
+                or_dash(s, |s| s.steps.to_string()),
+                or_dash(s, |s| s.wall_s.to_string()),
+                r.status().to_string(),
+                or_dash(s, |s| s.final_length_m.to_string()),
+                test.final_length.to_string(),
+                or_dash(length_error, |e| e.to_string()),
+                or_dash(s, |s| (2.0 * s.max_radius_m).to_string()),
+                test.mushroom_diameter.to_string(),
+                or_dash(diameter_error, |e| e.to_string()),
+                ctx.rel(&r.dir),
+            ]);
+            table_rows.push(vec![
+                base.name.clone(),
+                format!("{:.3}", h * 1e3),
+                or_dash(s, |s| s.elements.to_string()),
+                or_dash(s, |s| format!("{:.3}", s.final_length_m * 1e3)),
+                format!("{:.2}", test.final_length * 1e3),
+                or_dash(length_error, pct),
+                or_dash(s, |s| format!("{:.2}", 2e3 * s.max_radius_m)),
+                format!("{:.2}", test.mushroom_diameter * 1e3),
+                or_dash(diameter_error, pct),
+                or_dash(s, |s| format!("{:.1}", s.wall_s)),
+                r.status().to_string(),
+            ]);
+        }
+        let finest = sizes.iter().zip(&records).min_by(|a, b| a.0.total_cmp(b.0));
+        if let Some((&h, r)) = finest {
+            let error = r
+                .completed()
+                .map(|s| s.final_length_m / test.final_length - 1.0);
+            checks.push(Check {
+                section,
+                what: format!("{} final length, {:.3} mm elements", base.name, h * 1e3),
+                target: format!(
+                    "within {:.0} % of {:.2} mm",
+                    100.0 * LENGTH_TOLERANCE,
+                    test.final_length * 1e3
+                ),
+                result: or_dash(error, pct),
+                pass: error.map(|e| e.abs() <= LENGTH_TOLERANCE),
+            });
+        }
+        length_series.push((base.name.clone(), lengths));
+        diameter_series.push((base.name.clone(), diameters));
+    }
+    let csv = ctx.csv(
+        section,
+        "taylor.csv",
+        &[
+            "scene",
+            "material",
+            "element_size_m",
+            "elements",
+            "steps",
+            "wall_s",
+            "status",
+            "final_length_m",
+            "measured_final_length_m",
+            "length_error",
+            "mushroom_diameter_m",
+            "measured_mushroom_diameter_m",
+            "diameter_error",
+            "dir",
+        ],
+        &rows,
+    )?;
+    let chart = |title: &str, y: &str, series: Vec<(String, Vec<(f64, f64)>)>| {
+        series.into_iter().fold(
+            Chart::new(title, "element size (mm)", y),
+            |c, (label, points)| c.series(&label, points, Mark::LinePoints),
+        )
+    };
+    let length_plot = ctx.plot(
+        section,
+        "final-length.png",
+        &chart(
+            "Taylor bars: final length against element size",
+            "final length error vs measured (%)",
+            length_series,
+        ),
+    )?;
+    let diameter_plot = ctx.plot(
+        section,
+        "mushroom-diameter.png",
+        &chart(
+            "Taylor bars: mushroom diameter against element size",
+            "mushroom diameter error vs measured (%)",
+            diameter_series,
+        ),
+    )?;
+    let mut md = format!(
+        "Bars onto a rigid wall at three element sizes ({}× the shipped scene's), on {}. \
+         The mushroom diameter is twice the largest nodal radius. Target: final length within \
+         {:.0} % at the finest mesh. Raw data: {csv}.\n\n",
+        ctx.settings
+            .taylor_factors
+            .iter()
+            .map(|f| f.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        sweep::backend_name(ctx.primary()),
+        100.0 * LENGTH_TOLERANCE
+    );
+    md += &table(
+        &[
+            "scene",
+            "element (mm)",
+            "elements",
+            "final length (mm)",
+            "measured (mm)",
+            "error",
+            "mushroom Ø (mm)",
+            "measured (mm)",
+            "error",
+            "wall (s)",
+            "status",
+        ],
+        &table_rows,
+    );
+    md += &length_plot;
+    md += "\n";
+    md += &diameter_plot;
+    Ok(SectionOut {
+        markdown: md,
+        checks,
+    })
+}

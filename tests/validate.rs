@@ -1,0 +1,307 @@
+//! `penetrate validate` and `penetrate sweep` end to end through the built binary: the quick
+//! validation writes every section, and bad input is refused with a message and exit code 2.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The measurements, beside the repository (`../shared/data`).
+fn data() -> PathBuf {
+    root().join("../shared/data")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penetrate-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn penetrate(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penetrate"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("the penetrate binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Data rows of a CSV file (its header line excluded).
+fn csv_rows(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.lines().skip(1).map(str::to_string).collect()
+}
+
+fn pngs(dir: &Path, found: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            pngs(&path, found);
+        } else if path.extension().is_some_and(|e| e == "png") {
+            found.push(path);
+        }
+    }
+}
+
+/// The quick validation on the CPU: every section in the report, each section's CSV with one
+/// row per run, the plots valid PNG files, and the quick-run warning in the header.
+#[test]
+fn quick_validation_writes_every_section() {
+    let out = scratch("validate-quick");
+    let o = penetrate(&[
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu",
+        "--out",
+        out.to_str().unwrap(),
+        "--data",
+        data().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("at most"), "the run count is announced");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("Quick run") && report.contains("not validation"));
+    assert!(report.contains(
+        "Sections run: taylor, forrestal, target-size, convergence, rigid-vs-elastic, \
+         deformation, shell"
+    ));
+    for title in [
+        "## Checks",
+        "## Taylor bars",
+        "## Forrestal et al. (1994) shots",
+        "## Target size",
+        "## Error against run time",
+        "## Rigid against elastic-plastic projectile",
+        "## Plastic deformation against striking speed",
+        "## Shell projectile",
+        "critical velocity",
+    ] {
+        assert!(report.contains(title), "report.md lacks {title}");
+    }
+    let shots = csv_rows(&data().join("forrestal1994.csv"))
+        .iter()
+        .filter(|l| !l.starts_with('#'))
+        .count();
+    for (csv, rows) in [
+        ("taylor/taylor.csv", 6),
+        ("forrestal/forrestal.csv", shots),
+        ("target-size/target-size.csv", 2),
+        // Two shots at four resolutions on the one backend.
+        ("convergence/convergence.csv", 8),
+        ("rigid-vs-elastic/rigid-vs-elastic.csv", 4),
+        ("deformation/deformation.csv", 3),
+    ] {
+        let lines = csv_rows(&out.join(csv));
+        assert_eq!(lines.len(), rows, "{csv}: {lines:?}");
+        assert!(
+            lines.iter().all(|l| l.contains(",completed,")),
+            "{csv}: {lines:?}"
+        );
+    }
+    // Five sweep speeds and the bisection's runs.
+    let shell = csv_rows(&out.join("shell/shell.csv"));
+    assert!(shell.len() >= 5, "{shell:?}");
+    assert!(shell.iter().filter(|l| l.contains(",sweep,")).count() == 5);
+    assert!(!csv_rows(&out.join("shell/damage-area.csv")).is_empty());
+    let mut found = Vec::new();
+    pngs(&out, &mut found);
+    // Two Taylor, one Forrestal, two convergence, two history, two deformation, five shell.
+    assert!(found.len() >= 14, "{found:?}");
+    for png in &found {
+        let bytes = std::fs::read(png).unwrap();
+        assert!(
+            bytes.starts_with(b"\x89PNG\r\n\x1a\n"),
+            "{} is not a PNG",
+            png.display()
+        );
+        let name = png.strip_prefix(&out).unwrap().display().to_string();
+        assert!(report.contains(&name), "report.md does not show {name}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// `--only` runs the sections named and the report says which ran; an unknown section or a
+/// missing data folder is refused before anything runs.
+#[test]
+fn only_runs_the_sections_named_and_bad_options_are_refused() {
+    let out = scratch("validate-only");
+    let dir = out.to_str().unwrap();
+    let data = data();
+    let data = data.to_str().unwrap();
+    let base = ["validate", "--quick", "--backend", "cpu", "--out", dir];
+    let o = penetrate(&[&base[..], &["--data", data, "--only", "taylor"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("Sections run: taylor\n"), "{report}");
+    assert!(report.contains("Sections not run: forrestal, target-size"));
+    assert!(!out.join("forrestal").exists());
+
+    let o = penetrate(&[&base[..], &["--data", data, "--only", "taylor,bogus"]].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--only bogus: no such section"),
+        "{}",
+        stderr(&o)
+    );
+
+    let o = penetrate(
+        &[
+            &base[..],
+            &["--data", "/nonexistent-data", "--only", "forrestal"],
+        ]
+        .concat(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(
+        e.contains("forrestal1994.csv") && e.contains("--data"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A sweep writes one `sweep.csv` row and one run directory per value.
+#[test]
+fn sweep_writes_one_row_per_value() {
+    let out = scratch("sweep");
+    let o = penetrate(&[
+        "sweep",
+        "cases/smoke.toml",
+        "--vary",
+        "projectile.velocity=200:400:100",
+        "--set",
+        "run.end_time=1e-5",
+        "--backend",
+        "cpu",
+        "--no-vtk",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "projectile.velocity,status,depth_m,projectile_velocity_m_s,max_damage,\
+             max_plastic_strain,final_length_m,steps,particles,elements,wall_s,energy_error,\
+             momentum_error,backend,dir"
+        )
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 3, "{text}");
+    for (row, v) in rows.iter().zip(["200", "300", "400"]) {
+        assert!(row.starts_with(&format!("{v},completed,")), "{row}");
+        assert!(out.join(format!("velocity-{v}/summary.json")).is_file());
+        assert!(out.join(format!("velocity-{v}/history.csv")).is_file());
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Malformed `--vary` specifications and bad overrides are refused with a message naming what
+/// is wrong, exit code 2, and no run.
+#[test]
+fn malformed_sweeps_are_refused() {
+    let out = scratch("sweep-bad");
+    for (vary, set, says) in [
+        (
+            "projectile.velocity",
+            "run.end_time=1e-5",
+            "expected key=a:b:step",
+        ),
+        (
+            "projectile.velocity=200:400",
+            "run.end_time=1e-5",
+            "three numbers",
+        ),
+        (
+            "projectile.velocity=200:fast:100",
+            "run.end_time=1e-5",
+            "not a finite number",
+        ),
+        (
+            "projectile.velocity=200:400:0",
+            "run.end_time=1e-5",
+            "step = 0 must be > 0",
+        ),
+        (
+            "projectile.velocity=400:200:100",
+            "run.end_time=1e-5",
+            "empty range",
+        ),
+        (
+            "projectile.velocity=0:5000:1",
+            "run.end_time=1e-5",
+            "more than the 200",
+        ),
+        (
+            "projectile.velocty=200:400:100",
+            "run.end_time=1e-5",
+            "projectile.velocty",
+        ),
+        (
+            "projectile.velocity=200:400:100",
+            "run.end_tim=1e-5",
+            "run.end_tim",
+        ),
+        (
+            "projectile.velocity=-100:100:100",
+            "run.end_time=1e-5",
+            "projectile.velocity",
+        ),
+    ] {
+        let o = penetrate(&[
+            "sweep",
+            "cases/smoke.toml",
+            "--vary",
+            vary,
+            "--set",
+            set,
+            "--backend",
+            "cpu",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{vary}: {}", stderr(&o));
+        assert!(stderr(&o).contains(says), "{vary}: {}", stderr(&o));
+        assert!(!out.join("sweep.csv").exists(), "{vary}: nothing may run");
+    }
+}
+
+/// The damaged area of `history.csv` (`Simulation::damage_area`): with every element fully
+/// damaged it is the projectile's r–z half-section, the area under its outline; at half damage,
+/// half of it.
+#[test]
+fn damage_area_of_a_fully_damaged_projectile_is_its_section() {
+    use penetrate::scene;
+    use penetrate::solver::Simulation;
+
+    let scene = scene::load(&root().join("cases/smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    assert_eq!(sim.damage_area(), 0.0);
+    // The smoke projectile: a = 10 mm shank radius, 60 mm long, CRH ψ = 2: the ogive's arc
+    // radius is R = 2ψa = 40 mm over a nose of length L = a·sqrt(4ψ − 1).
+    let (a, length, psi) = (0.01f64, 0.06f64, 2.0f64);
+    let r_arc = 2.0 * psi * a;
+    let nose = a * (4.0 * psi - 1.0).sqrt();
+    // ∫₀ᴸ (sqrt(R² − x²) − (R − a)) dx, then the shank's rectangle.
+    let ogive = 0.5 * nose * (r_arc * r_arc - nose * nose).sqrt()
+        + 0.5 * r_arc * r_arc * (nose / r_arc).asin()
+        - (r_arc - a) * nose;
+    let section = ogive + a * (length - nose);
+    for d in [1.0f32, 0.5] {
+        sim.projectile.elements.damage.fill(d);
+        let area = sim.damage_area();
+        let expected = d as f64 * section;
+        assert!(
+            (area / expected - 1.0).abs() < 0.02,
+            "damage {d}: {area} m² against {expected} m²"
+        );
+    }
+}
