@@ -11,10 +11,11 @@
 //! a uniform pressure exert no force on any lattice, near the axis included.
 //!
 //! Why these ghost weights: `w_j = −r_j` (r σ is odd across the axis) keeps `∂σ_zz/∂z`
-//! consistent on the first rows; conservation then forces the same sign on i's own term. A
-//! linear `σ_rz` is off by 21 % on the first row and 15 % on the second (14 % lower per row
-//! beyond), and a smooth `σ_rr(r)` carries an error of order `h²/r²` relative to `∂σ_rr/∂r`
-//! near the axis (tests/sph.rs measures both).
+//! consistent on the first rows (`w_j = +r_j` would make it 67 % too strong on the first row);
+//! conservation then forces the same sign on i's own term. The price: a linear `σ_rz` gives
+//! `(1/r)∂(r σ_rz)/∂r` 21 % too strong on the first row and 15 % on the second, exact beyond
+//! (tests/sph.rs checks it), and a smooth `σ_rr(r)` carries an error of order `h²/r²` relative
+//! to `∂σ_rr/∂r` near the axis. r is `hoop_radius(r)` throughout, as in m̃.
 //!
 //! The work-conjugate energy rate: the pair forces do work `Σ_i F_i·v_i = ½ Σ_ij F_ij·(v_i − v_j)`
 //! (a ghost pair and its mirror image included), so `m_i ė_i = −½ Σ_j F_ij·(v_i − v_j) − m_i h_i·v_i`
