@@ -57,10 +57,7 @@ pub fn run(
         let set = vec![format!("target.spacing={spacing:e}")];
         let scene = scene::load(case, &set).map_err(|e| e.to_string())?;
         for &backend in backends {
-            let name = match backend {
-                Backend::Cpu => "cpu",
-                _ => "gpu",
-            };
+            let name = backend.name();
             log(&format!("bench: {n} particles on the {name}: building"));
             let mut sim = match solver::build(&scene, backend, adapter) {
                 Ok(sim) => sim,

@@ -173,11 +173,7 @@ fn main() -> ExitCode {
                 Ok(v) => v,
                 Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
             };
-            let backend = backend.map(|b| match b {
-                BackendArg::Cpu => Backend::Cpu,
-                BackendArg::Gpu => Backend::Gpu,
-                BackendArg::Auto => Backend::Auto,
-            });
+            let backend = backend.map(Backend::from);
             let out = out.unwrap_or_else(|| sweep::default_out(&case, &vary));
             let total = vary.values.len();
             eprintln!(
@@ -361,12 +357,7 @@ fn main() -> ExitCode {
                 Ok(s) => s,
                 Err(e) => return fail(2, &e.to_string()),
             };
-            let backend = match backend {
-                Some(BackendArg::Cpu) => Backend::Cpu,
-                Some(BackendArg::Gpu) => Backend::Gpu,
-                Some(BackendArg::Auto) => Backend::Auto,
-                None => scene.run.backend,
-            };
+            let backend = backend.map_or(scene.run.backend, Backend::from);
             let out = out.unwrap_or_else(|| PathBuf::from("runs").join(&scene.name));
             let opts = RunOptions {
                 out: out.clone(),
@@ -419,6 +410,16 @@ fn main() -> ExitCode {
                 Err(solver::RunError::Setup(m)) => fail(2, &format!("{}: {m}", case.display())),
                 Err(e) => fail(1, &e.to_string()),
             }
+        }
+    }
+}
+
+impl From<BackendArg> for Backend {
+    fn from(b: BackendArg) -> Backend {
+        match b {
+            BackendArg::Cpu => Backend::Cpu,
+            BackendArg::Gpu => Backend::Gpu,
+            BackendArg::Auto => Backend::Auto,
         }
     }
 }

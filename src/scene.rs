@@ -50,6 +50,17 @@ pub enum Backend {
     Auto,
 }
 
+impl Backend {
+    /// `cpu`, `gpu` or `auto`, as the scene key `run.backend` spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
+            Backend::Auto => "auto",
+        }
+    }
+}
+
 /// A fully resolved, validated scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -1651,12 +1662,11 @@ impl Scene {
         out.line("run.cfl", num(r.cfl), "-");
         out.line("run.output_interval", num(r.output_interval), "s");
         out.line("run.history_interval", num(r.history_interval), "s");
-        let backend = match r.backend {
-            Backend::Cpu => "cpu",
-            Backend::Gpu => "gpu",
-            Backend::Auto => "auto",
-        };
-        out.text("run.backend", backend, "\"cpu\" | \"gpu\" | \"auto\"");
+        out.text(
+            "run.backend",
+            r.backend.name(),
+            "\"cpu\" | \"gpu\" | \"auto\"",
+        );
         out.line("run.max_steps", r.max_steps, "steps");
         out.line("run.stop_at_rest", r.stop_at_rest, "true | false");
 

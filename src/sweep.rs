@@ -201,15 +201,6 @@ pub struct RunSettings {
     pub vtk: bool,
 }
 
-/// `cpu`, `gpu` or `auto`.
-pub fn backend_name(b: Backend) -> &'static str {
-    match b {
-        Backend::Cpu => "cpu",
-        Backend::Gpu => "gpu",
-        Backend::Auto => "auto",
-    }
-}
-
 /// `--backend gpu` needs an adapter: say so before the first run rather than in every row.
 pub fn check_backend(backend: Backend, adapter: Option<&str>) -> Result<(), SweepError> {
     if backend == Backend::Gpu {
@@ -349,7 +340,7 @@ fn summary_fields(r: &RunRecord) -> Vec<String> {
         Err(e) => {
             let mut row = vec![e.clone()];
             row.resize(SUMMARY_COLUMNS.len() - 2, String::new());
-            row.extend([backend_name(r.backend).to_string(), dir]);
+            row.extend([r.backend.name().to_string(), dir]);
             row
         }
     }

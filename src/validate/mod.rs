@@ -301,7 +301,7 @@ impl Context<'_> {
         let specs = asks
             .into_iter()
             .map(|a| RunSpec {
-                dir: runs.join(format!("{}-{}", a.label, sweep::backend_name(a.backend))),
+                dir: runs.join(format!("{}-{}", a.label, a.backend.name())),
                 label: a.label,
                 case: self.case(&a.case),
                 overrides: a.overrides,
@@ -333,7 +333,7 @@ impl Context<'_> {
                 progress(&format!(
                     "[{made}/≤{estimate}] {} {label} on {}: {}",
                     section.name(),
-                    sweep::backend_name(backend),
+                    backend.name(),
                     describe(r)
                 ))
             })?;
@@ -342,7 +342,7 @@ impl Context<'_> {
                 self.failed.push(format!(
                     "{} {label} on {}: {}",
                     section.name(),
-                    sweep::backend_name(backend),
+                    backend.name(),
                     r.status()
                 ));
             }
@@ -540,7 +540,7 @@ fn render(
                 .filter(|r| r.backend == b && b == Backend::Gpu)
                 .find_map(|r| r.summary().map(|s| format!(" ({})", s.adapter)))
                 .unwrap_or_default();
-            format!("{}{adapter}", sweep::backend_name(b))
+            format!("{}{adapter}", b.name())
         })
         .collect();
     md += &format!("- Sections run: {}\n", names(chosen));

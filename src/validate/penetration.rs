@@ -232,7 +232,7 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
          the simulation {:.1} % over {} shot(s) that completed, of the equation {:.1} %. Raw data: \
          {csv}.\n\n",
         if ctx.settings.quick { " with the quick overrides" } else { "" },
-        sweep::backend_name(ctx.primary()),
+        ctx.primary().name(),
         scenes.first().map_or("", |s| s.projectile.material.preset.as_str()),
         scenes.first().map_or(0.0, |s| s.contact.lambda),
         if one_set {
@@ -347,7 +347,7 @@ pub(super) fn target_size(ctx: &mut Context) -> Result<SectionOut, ValidateError
         "The {} m/s shot in its target and in one {TARGET_GROWTH}× wider and thicker, on {} \
          (boundary conditions as in the scene). Depth change {} ({}). Raw data: {csv}.\n\n",
         c.shot.velocity,
-        sweep::backend_name(ctx.primary()),
+        ctx.primary().name(),
         or_dash(change, pct),
         match check.pass {
             Some(true) => "pass",
@@ -452,7 +452,7 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
         let element = r.scene.projectile.element_size;
         rows.push(vec![
             l.velocity.to_string(),
-            sweep::backend_name(r.backend).to_string(),
+            r.backend.name().to_string(),
             l.factor.to_string(),
             spacing.to_string(),
             element.to_string(),
@@ -469,7 +469,7 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
         ]);
         table_rows.push(vec![
             format!("{}", l.velocity),
-            sweep::backend_name(r.backend).to_string(),
+            r.backend.name().to_string(),
             format!("{:.1} / {:.2}", spacing * 1e3, element * 1e3),
             or_dash(s, |s| s.particles.to_string()),
             or_dash(s, |s| s.elements.to_string()),
@@ -521,10 +521,7 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
                 })
                 .collect();
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart_series.push((
-                format!("{} m/s, {}", shot.velocity, sweep::backend_name(backend)),
-                points,
-            ));
+            chart_series.push((format!("{} m/s, {}", shot.velocity, backend.name()), points));
         }
         chart_series
     };
@@ -561,11 +558,7 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
                 let depth = |b: &str| {
                     levels
                         .iter()
-                        .find(|l| {
-                            l.velocity == v
-                                && l.factor == f
-                                && sweep::backend_name(l.record.backend) == b
-                        })
+                        .find(|l| l.velocity == v && l.factor == f && l.record.backend.name() == b)
                         .and_then(Level::depth)
                 };
                 Some((f, depth("gpu")? / depth("cpu")? - 1.0))
@@ -600,7 +593,7 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
         ctx.opts
             .backends
             .iter()
-            .map(|&b| sweep::backend_name(b))
+            .map(|&b| b.name())
             .collect::<Vec<_>>()
             .join(" and "),
         100.0 * BACKEND_TOLERANCE,

@@ -3,7 +3,7 @@
 //! on both sides of it, and the growth of the damaged area in time.
 
 use crate::plot::{Chart, FieldMap, Mark};
-use crate::sweep::{self, RunRecord};
+use crate::sweep::RunRecord;
 
 use super::bisect::{self, Bracket};
 use super::frame;
@@ -338,7 +338,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
         base.target
             .as_ref()
             .map_or(0.0, |t| t.concrete.fc as f64 * 1e-6),
-        sweep::backend_name(backend),
+        backend.name(),
         speeds
             .values
             .iter()

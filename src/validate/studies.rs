@@ -3,7 +3,6 @@
 //! striking speed (Fig. 4). Both are qualitative: no accuracy target, the numbers are reported.
 
 use crate::plot::{Chart, Mark};
-use crate::sweep;
 
 use super::penetration::{study_shot, STUDY_SHOTS};
 use super::{history, or_dash, pct, table, Ask, Context, Section, SectionOut, ValidateError};
@@ -140,7 +139,7 @@ pub(super) fn rigid_vs_elastic(ctx: &mut Context) -> Result<SectionOut, Validate
          nearly the same final depth, the rigid one slightly deeper, with different histories. \
          No accuracy target. Raw data: {csv}.\n\n",
         STUDY_SHOTS.map(|v| v.to_string()).join(" and "),
-        sweep::backend_name(ctx.primary()),
+        ctx.primary().name(),
     );
     md += &table(
         &[
@@ -267,7 +266,7 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
             .map(|v| v.to_string())
             .collect::<Vec<_>>()
             .join(", "),
-        sweep::backend_name(ctx.primary()),
+        ctx.primary().name(),
         length0 * 1e3,
     );
     md += &table(

@@ -184,7 +184,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             .map(|f| f.to_string())
             .collect::<Vec<_>>()
             .join(", "),
-        sweep::backend_name(ctx.primary()),
+        ctx.primary().name(),
         100.0 * LENGTH_TOLERANCE
     );
     md += &table(
