@@ -139,6 +139,11 @@ enum Command {
         /// Folder of the measurements (taylor.csv, forrestal1994.csv).
         #[arg(long, default_value = "../shared/data")]
         data: PathBuf,
+        /// Take each completed run already in OUT whose resolved scene (its scene.toml) and
+        /// backend are the ones asked for, instead of running it again: an interrupted
+        /// validation goes on where it stopped. Use it only with the binary that made them.
+        #[arg(long)]
+        resume: bool,
     },
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check {
@@ -217,6 +222,7 @@ fn main() -> ExitCode {
             out,
             cases,
             data,
+            resume,
         } => {
             let only = match only
                 .iter()
@@ -234,6 +240,7 @@ fn main() -> ExitCode {
                 adapter,
                 quick,
                 only,
+                resume,
             };
             match validate::run(&opts, &mut |line| eprintln!("{line}")) {
                 Ok(o) => {

@@ -911,6 +911,9 @@ pub fn build(
     Ok(sim)
 }
 
+/// The resolved scene a run writes into its output folder.
+pub const SCENE_FILE: &str = "scene.toml";
+
 /// The result of a run: its summary, and whether it ended normally.
 pub struct RunOutcome {
     pub summary: Summary,
@@ -922,6 +925,8 @@ pub struct RunOutcome {
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
     std::fs::create_dir_all(&opts.out).map_err(io)?;
+    // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
+    std::fs::write(opts.out.join(SCENE_FILE), scene.resolved_table()).map_err(io)?;
     let started = Instant::now();
     let backend = opts.backend.unwrap_or(scene.run.backend);
     let mut sim = build(scene, backend, opts.adapter.as_deref())?;

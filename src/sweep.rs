@@ -249,6 +249,31 @@ pub fn run_set(
     Ok(records)
 }
 
+/// The summary of a completed run of exactly `scene` on `backend` left in `dir` by an earlier
+/// process, for `penetrate validate --resume`: its `scene.toml` must list the same resolved
+/// values (comment and blank lines aside), its `summary.json` must say `completed` on the same
+/// backend, and with `vtk` its frames must be there. It cannot tell whether the solver changed
+/// since.
+pub fn completed_run(dir: &Path, scene: &Scene, backend: Backend, vtk: bool) -> Option<Summary> {
+    let settings = |text: &str| -> Vec<String> {
+        text.lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .map(String::from)
+            .collect()
+    };
+    let written = std::fs::read_to_string(dir.join(solver::SCENE_FILE)).ok()?;
+    if settings(&written) != settings(&scene.resolved_table()) {
+        return None;
+    }
+    if vtk && !dir.join("frames.pvd").is_file() {
+        return None;
+    }
+    let json = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    let summary: Summary = serde_json::from_str(&json).ok()?;
+    (summary.status == "completed" && summary.backend == backend.name()).then_some(summary)
+}
+
 /// Default output directory of a sweep: `runs/<case file stem>-<key's last part>`.
 pub fn default_out(case: &Path, vary: &Vary) -> PathBuf {
     let stem = case

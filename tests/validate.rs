@@ -166,6 +166,71 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `--resume` takes the completed runs an earlier process left in the folder when their
+/// resolved scene matches, and runs again the one whose `scene.toml` says otherwise; without
+/// it every run is made afresh.
+#[test]
+fn resume_takes_matching_completed_runs_only() {
+    let out = scratch("validate-resume");
+    let dir = out.to_str().unwrap();
+    let data = data();
+    let base = [
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu",
+        "--only",
+        "taylor",
+        "--out",
+        dir,
+        "--data",
+        data.to_str().unwrap(),
+    ];
+    let first = penetrate(&base);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let csv = out.join("taylor/taylor.csv");
+    let rows = csv_rows(&csv);
+    assert_eq!(rows.len(), 6);
+
+    // One run's recorded scene no longer matches what the section asks for.
+    let runs = out.join("taylor/runs");
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&runs)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    dirs.sort();
+    let changed = dirs[0].join("scene.toml");
+    let text = std::fs::read_to_string(&changed).unwrap();
+    let edited = text.replacen("run.cfl = ", "run.cfl = 0.1 # was ", 1);
+    assert_ne!(text, edited, "scene.toml lists run.cfl");
+    std::fs::write(&changed, edited).unwrap();
+
+    let second = penetrate(&[&base[..], &["--resume"]].concat());
+    assert!(second.status.success(), "{}", stderr(&second));
+    let e = stderr(&second);
+    assert_eq!(e.matches("(resumed from ").count(), 5, "{e}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("5 of them resumed"), "{report}");
+    // The same runs give the same rows (wall times aside: the rerun has its own).
+    let strip_wall = |rows: Vec<String>| -> Vec<String> {
+        rows.iter()
+            .map(|r| {
+                let mut c: Vec<&str> = r.split(',').collect();
+                c.remove(5); // wall_s
+                c.join(",")
+            })
+            .collect()
+    };
+    assert_eq!(strip_wall(csv_rows(&csv)), strip_wall(rows));
+    // The rerun wrote its scene back.
+    assert_eq!(std::fs::read_to_string(&changed).unwrap(), text);
+
+    let third = penetrate(&base);
+    assert!(third.status.success(), "{}", stderr(&third));
+    assert!(!stderr(&third).contains("resumed"), "{}", stderr(&third));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// A sweep writes one `sweep.csv` row and one run directory per value.
 #[test]
 fn sweep_writes_one_row_per_value() {

@@ -1,8 +1,8 @@
 //! `summary.json`: what a run produced and how it ended.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Summary {
     pub scene: String,
     /// `completed`, or the reason the run stopped.
@@ -47,7 +47,7 @@ pub struct Summary {
 }
 
 /// Energy account at the end of the run (J).
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct EnergySummary {
     pub initial_kinetic: f64,
     pub kinetic: f64,

@@ -109,6 +109,9 @@ pub struct Options {
     pub quick: bool,
     /// Sections to run; empty: all.
     pub only: Vec<Section>,
+    /// Take a completed run already in `out` when its resolved scene and backend are the ones
+    /// asked for ([`sweep::completed_run`]) instead of running it again.
+    pub resume: bool,
 }
 
 /// How a validation ended (its accuracy is in the report, not here).
@@ -266,6 +269,8 @@ struct Context<'a> {
     done: Vec<RunRecord>,
     failed: Vec<String>,
     reused: usize,
+    /// Runs taken from an earlier process's output (`--resume`).
+    resumed: usize,
     estimate: usize,
     progress: &'a mut dyn FnMut(&str),
 }
@@ -329,6 +334,32 @@ impl Context<'_> {
             let made = self.done.len() + 1;
             let estimate = self.estimate.max(made);
             let progress = &mut *self.progress;
+            let earlier_process = self
+                .opts
+                .resume
+                .then(|| sweep::completed_run(&p.spec.dir, &p.scene, backend, vtk))
+                .flatten();
+            if let Some(summary) = earlier_process {
+                let r = RunRecord {
+                    label,
+                    dir: p.spec.dir,
+                    backend,
+                    scene: p.scene,
+                    outcome: Ok(summary),
+                };
+                progress(&format!(
+                    "[{made}/≤{estimate}] {} {} on {}: {} (resumed from {})",
+                    section.name(),
+                    r.label,
+                    backend.name(),
+                    describe(&r),
+                    r.dir.display()
+                ));
+                self.resumed += 1;
+                self.done.push(r.clone());
+                records.push(r);
+                continue;
+            }
             let mut new = sweep::run_set(vec![p], &settings, |r| {
                 progress(&format!(
                     "[{made}/≤{estimate}] {} {label} on {}: {}",
@@ -476,6 +507,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
         done: Vec::new(),
         failed: Vec::new(),
         reused: 0,
+        resumed: 0,
         estimate,
         progress,
     };
@@ -551,8 +583,10 @@ fn render(
     );
     md += &format!("- Data: `{}`\n", opts.data.display());
     md += &format!(
-        "- Runs: {} ({} more asked again and reused), {} did not complete\n",
+        "- Runs: {} ({} of them resumed from earlier output in this folder; {} more asked again \
+         and reused), {} did not complete\n",
         ctx.done.len(),
+        ctx.resumed,
         ctx.reused,
         ctx.failed.len()
     );
