@@ -219,6 +219,7 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
         .series("Forrestal's equation", equation, Mark::LinePoints)
         .series("simulated", simulated, Mark::LinePoints),
     )?;
+    let resistance = resistance(ctx, &cases, &records)?;
     let scenes: Vec<&Scene> = cases.iter().map(|c| &c.scene).collect();
     let one_set = scenes.windows(2).all(|w| {
         w[0].projectile.material == w[1].projectile.material && w[0].contact == w[1].contact
@@ -260,10 +261,141 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
         &table_rows,
     );
     md += &plot;
+    md += &resistance;
     Ok(SectionOut {
         markdown: md,
         checks: vec![check],
     })
+}
+
+/// History rows either side of each point of the resistance's least-squares slope.
+const RESISTANCE_HALF_WINDOW: usize = 10;
+
+/// The speed at which the shots' resistances are compared in the report's table (m/s).
+const RESISTANCE_SPEED: f64 = 200.0;
+
+/// The forrestal section's resistance part: the axial stress on the buried projectile against
+/// its speed for each completed shot ([`forrestal::tunnel_resistance`]) beside Forrestal's law
+/// `S f_c + N ρ v²`, as a plot, a CSV and a table at [`RESISTANCE_SPEED`].
+fn resistance(
+    ctx: &Context,
+    cases: &[ShotCase],
+    records: &[RunRecord],
+) -> Result<String, ValidateError> {
+    let section = Section::Forrestal;
+    let mut chart = Chart::new(
+        "Resistance of the target along the tunnel",
+        "projectile speed (m/s)",
+        "axial stress m|dv/dt|/(πa²) (MPa)",
+    );
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    let mut notes = String::new();
+    let mut laws = Vec::new();
+    for (c, r) in cases.iter().zip(records) {
+        let Some(summary) = r.completed() else {
+            continue;
+        };
+        let inputs = c.equation()?;
+        let a = inputs.shank_radius;
+        let nose_length = a * (4.0 * inputs.crh - 1.0).max(0.0).sqrt();
+        let h = match super::history(&r.dir, &["time_s", "depth_m", "projectile_velocity_m_s"]) {
+            Ok(h) => h,
+            Err(e) => {
+                notes += &format!("- {} m/s: no history ({e})\n", c.shot.velocity);
+                continue;
+            }
+        };
+        // `projectile_velocity_m_s` is the speed into the target.
+        let points = forrestal::tunnel_resistance(
+            &h[0],
+            &h[1],
+            &h[2],
+            summary.projectile_mass_kg,
+            a,
+            nose_length,
+            RESISTANCE_HALF_WINDOW,
+        );
+        for &(v, sigma) in &points {
+            rows.push(vec![
+                c.shot.velocity.to_string(),
+                v.to_string(),
+                sigma.to_string(),
+            ]);
+        }
+        let law = |v: f64| {
+            inputs.strength_factor() * inputs.fc + inputs.nose_factor() * inputs.density * v * v
+        };
+        laws.push((inputs.fc, law(0.0), inputs.nose_factor() * inputs.density));
+        let near = points.iter().min_by(|p, q| {
+            (p.0 - RESISTANCE_SPEED)
+                .abs()
+                .total_cmp(&(q.0 - RESISTANCE_SPEED).abs())
+        });
+        if let Some(&(v, sigma)) = near {
+            table_rows.push(vec![
+                format!("{}", c.shot.velocity),
+                format!("{v:.0}"),
+                format!("{:.0}", sigma * 1e-6),
+                format!("{:.0}", law(v) * 1e-6),
+                pct(sigma / law(v) - 1.0),
+            ]);
+        }
+        let mpa: Vec<(f64, f64)> = points.iter().map(|&(v, s)| (v, s * 1e-6)).collect();
+        chart = chart.series(
+            &format!("simulated, {} m/s shot", c.shot.velocity),
+            mpa,
+            Mark::Line,
+        );
+    }
+    // Forrestal's law for the mean f_c of the shots drawn (they differ by a few per cent).
+    if !laws.is_empty() {
+        let k = laws.len() as f64;
+        let (fc, r0, n_rho) = laws.iter().fold((0.0, 0.0, 0.0), |s, l| {
+            (s.0 + l.0 / k, s.1 + l.1 / k, s.2 + l.2 / k)
+        });
+        let top = cases.iter().map(|c| c.shot.velocity).fold(0.0, f64::max);
+        let curve = (0..=40)
+            .map(|i| {
+                let v = top * i as f64 / 40.0;
+                (v, (r0 + n_rho * v * v) * 1e-6)
+            })
+            .collect();
+        chart = chart.series(
+            &format!("Forrestal: S f_c + Nρv² (f_c {:.1} MPa)", fc * 1e-6),
+            curve,
+            Mark::Line,
+        );
+    }
+    let csv = ctx.csv(
+        section,
+        "resistance.csv",
+        &["shot_velocity_m_s", "speed_m_s", "axial_stress_pa"],
+        &rows,
+    )?;
+    let plot = ctx.plot(section, "resistance-vs-speed.png", &chart)?;
+    let mut md = format!(
+        "\n### Resistance along the tunnel\n\nThe axial stress resisting each projectile once \
+         its nose is buried, `m|dv/dt|/(πa²)` from `history.csv` (slope over {} rows either \
+         side), against its speed, beside the law Forrestal's equation integrates, \
+         `S f_c + N ρ v²`, which is the same at every depth. Raw data: {csv}.\n\n",
+        RESISTANCE_HALF_WINDOW
+    );
+    md += &notes;
+    if !table_rows.is_empty() {
+        md += &table(
+            &[
+                "shot (m/s)",
+                "speed (m/s)",
+                "simulated (MPa)",
+                "S f_c + Nρv² (MPa)",
+                "difference",
+            ],
+            &table_rows,
+        );
+    }
+    md += &plot;
+    Ok(md)
 }
 
 pub(super) fn target_size(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
