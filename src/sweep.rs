@@ -252,9 +252,15 @@ pub fn run_set(
 /// The summary of a completed run of exactly `scene` on `backend` left in `dir` by an earlier
 /// process, for `penetrate validate --resume`: its `scene.toml` must list the same resolved
 /// values (comment and blank lines aside), its `summary.json` must say `completed` on the same
-/// backend, and with `vtk` its frames must be there. It cannot tell whether the solver changed
-/// since.
-pub fn completed_run(dir: &Path, scene: &Scene, backend: Backend, vtk: bool) -> Option<Summary> {
+/// backend (a GPU run: on the adapter named `gpu_adapter`, as its summary names it), and with
+/// `vtk` its frames must be there. It cannot tell whether the solver changed since.
+pub fn completed_run(
+    dir: &Path,
+    scene: &Scene,
+    backend: Backend,
+    gpu_adapter: Option<&str>,
+    vtk: bool,
+) -> Option<Summary> {
     let settings = |text: &str| -> Vec<String> {
         text.lines()
             .map(str::trim)
@@ -271,7 +277,9 @@ pub fn completed_run(dir: &Path, scene: &Scene, backend: Backend, vtk: bool) -> 
     }
     let json = std::fs::read_to_string(dir.join("summary.json")).ok()?;
     let summary: Summary = serde_json::from_str(&json).ok()?;
-    (summary.status == "completed" && summary.backend == backend.name()).then_some(summary)
+    let same_adapter = backend != Backend::Gpu || gpu_adapter == Some(summary.adapter.as_str());
+    (summary.status == "completed" && summary.backend == backend.name() && same_adapter)
+        .then_some(summary)
 }
 
 /// Default output directory of a sweep: `runs/<case file stem>-<key's last part>`.

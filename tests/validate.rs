@@ -231,6 +231,59 @@ fn resume_takes_matching_completed_runs_only() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// On the GPU `--resume` also asks for the same adapter: a run whose summary names another one
+/// (another machine's GPU, whose wall times mean something else) is run again.
+#[test]
+fn resume_takes_gpu_runs_from_the_same_adapter_only() {
+    let out = scratch("validate-resume-gpu");
+    let dir = out.to_str().unwrap();
+    let data = data();
+    let adapter = std::env::var("PENETRATE_ADAPTER").unwrap_or_default();
+    let mut base = vec![
+        "validate",
+        "--quick",
+        "--backend",
+        "gpu",
+        "--only",
+        "taylor",
+        "--out",
+        dir,
+        "--data",
+        data.to_str().unwrap(),
+    ];
+    if !adapter.is_empty() {
+        base.extend(["--adapter", adapter.as_str()]);
+    }
+    let first = penetrate(&base);
+    assert!(
+        first.status.success(),
+        "this test needs a GPU adapter (Debian: apt-get install mesa-vulkan-drivers, or run \
+         `bash scripts/test`): {}",
+        stderr(&first)
+    );
+    let runs = out.join("taylor/runs");
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&runs)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    dirs.sort();
+    assert_eq!(dirs.len(), 6);
+    let summary = dirs[0].join("summary.json");
+    let text = std::fs::read_to_string(&summary).unwrap();
+    let moved = text.replacen("\"adapter\": \"", "\"adapter\": \"another machine's ", 1);
+    assert_ne!(text, moved, "summary.json names the adapter");
+    std::fs::write(&summary, moved).unwrap();
+
+    let second = penetrate(&[&base[..], &["--resume"]].concat());
+    assert!(second.status.success(), "{}", stderr(&second));
+    let e = stderr(&second);
+    assert_eq!(e.matches("(resumed from ").count(), 5, "{e}");
+    // The rerun wrote its own summary, naming this adapter.
+    let rerun = std::fs::read_to_string(&summary).unwrap();
+    assert!(!rerun.contains("another machine"), "{rerun}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// A sweep writes one `sweep.csv` row and one run directory per value.
 #[test]
 fn sweep_writes_one_row_per_value() {

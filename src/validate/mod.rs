@@ -271,6 +271,9 @@ struct Context<'a> {
     reused: usize,
     /// Runs taken from an earlier process's output (`--resume`).
     resumed: usize,
+    /// With `--resume` and a GPU backend: the adapter's name as run summaries give it; only GPU
+    /// runs made on it are taken.
+    gpu_adapter: Option<String>,
     estimate: usize,
     progress: &'a mut dyn FnMut(&str),
 }
@@ -337,7 +340,10 @@ impl Context<'_> {
             let earlier_process = self
                 .opts
                 .resume
-                .then(|| sweep::completed_run(&p.spec.dir, &p.scene, backend, vtk))
+                .then(|| {
+                    let adapter = self.gpu_adapter.as_deref();
+                    sweep::completed_run(&p.spec.dir, &p.scene, backend, adapter, vtk)
+                })
                 .flatten();
             if let Some(summary) = earlier_process {
                 let r = RunRecord {
@@ -488,6 +494,13 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
     for &b in &opts.backends {
         sweep::check_backend(b, opts.adapter.as_deref())?;
     }
+    let gpu_adapter = if opts.resume && opts.backends.contains(&Backend::Gpu) {
+        let gpu = crate::gpu::Gpu::new(opts.adapter.as_deref())
+            .map_err(|e| ValidateError::Backend(format!("--backend gpu: {e}")))?;
+        Some(gpu.adapter_name())
+    } else {
+        None
+    };
     let chosen = sections(opts);
     for s in &chosen {
         let dir = opts.out.join(s.name());
@@ -508,6 +521,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
         failed: Vec::new(),
         reused: 0,
         resumed: 0,
+        gpu_adapter,
         estimate,
         progress,
     };
