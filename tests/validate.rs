@@ -166,6 +166,29 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// Replaces the first `from` by `to` in `file` of the first (by name) of the six quick Taylor
+/// runs under `out`; returns the file's path and its text before.
+fn edit_first_taylor_run(out: &Path, file: &str, from: &str, to: &str) -> (PathBuf, String) {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(out.join("taylor/runs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    dirs.sort();
+    assert_eq!(dirs.len(), 6);
+    let path = dirs[0].join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let edited = text.replacen(from, to, 1);
+    assert_ne!(text, edited, "{file} has no `{from}`");
+    std::fs::write(&path, edited).unwrap();
+    (path, text)
+}
+
+/// How many runs a successful `validate --resume` took from earlier output.
+fn resumed(o: &Output) -> usize {
+    assert!(o.status.success(), "{}", stderr(o));
+    stderr(o).matches("(resumed from ").count()
+}
+
 /// `--resume` takes the completed runs an earlier process left in the folder when their
 /// resolved scene matches, and runs again the one whose `scene.toml` says otherwise; without
 /// it every run is made afresh.
@@ -193,22 +216,11 @@ fn resume_takes_matching_completed_runs_only() {
     assert_eq!(rows.len(), 6);
 
     // One run's recorded scene no longer matches what the section asks for.
-    let runs = out.join("taylor/runs");
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&runs)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    dirs.sort();
-    let changed = dirs[0].join("scene.toml");
-    let text = std::fs::read_to_string(&changed).unwrap();
-    let edited = text.replacen("run.cfl = ", "run.cfl = 0.1 # was ", 1);
-    assert_ne!(text, edited, "scene.toml lists run.cfl");
-    std::fs::write(&changed, edited).unwrap();
+    let (changed, text) =
+        edit_first_taylor_run(&out, "scene.toml", "run.cfl = ", "run.cfl = 0.1 # was ");
 
     let second = penetrate(&[&base[..], &["--resume"]].concat());
-    assert!(second.status.success(), "{}", stderr(&second));
-    let e = stderr(&second);
-    assert_eq!(e.matches("(resumed from ").count(), 5, "{e}");
+    assert_eq!(resumed(&second), 5, "{}", stderr(&second));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("5 of them resumed"), "{report}");
     // The same runs give the same rows (wall times aside: the rerun has its own).
@@ -225,9 +237,7 @@ fn resume_takes_matching_completed_runs_only() {
     // The rerun wrote its scene back.
     assert_eq!(std::fs::read_to_string(&changed).unwrap(), text);
 
-    let third = penetrate(&base);
-    assert!(third.status.success(), "{}", stderr(&third));
-    assert!(!stderr(&third).contains("resumed"), "{}", stderr(&third));
+    assert_eq!(resumed(&penetrate(&base)), 0);
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -261,23 +271,15 @@ fn resume_takes_gpu_runs_from_the_same_adapter_only() {
          `bash scripts/test`): {}",
         stderr(&first)
     );
-    let runs = out.join("taylor/runs");
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&runs)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    dirs.sort();
-    assert_eq!(dirs.len(), 6);
-    let summary = dirs[0].join("summary.json");
-    let text = std::fs::read_to_string(&summary).unwrap();
-    let moved = text.replacen("\"adapter\": \"", "\"adapter\": \"another machine's ", 1);
-    assert_ne!(text, moved, "summary.json names the adapter");
-    std::fs::write(&summary, moved).unwrap();
+    let (summary, _) = edit_first_taylor_run(
+        &out,
+        "summary.json",
+        "\"adapter\": \"",
+        "\"adapter\": \"another machine's ",
+    );
 
     let second = penetrate(&[&base[..], &["--resume"]].concat());
-    assert!(second.status.success(), "{}", stderr(&second));
-    let e = stderr(&second);
-    assert_eq!(e.matches("(resumed from ").count(), 5, "{e}");
+    assert_eq!(resumed(&second), 5, "{}", stderr(&second));
     // The rerun wrote its own summary, naming this adapter.
     let rerun = std::fs::read_to_string(&summary).unwrap();
     assert!(!rerun.contains("another machine"), "{rerun}");
