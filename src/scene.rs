@@ -1237,7 +1237,7 @@ fn resolve_contact(c: &Check, raw: Option<&RawContact>) -> Result<ContactSpec, S
 }
 
 /// Length of a tangent ogive nose of shank radius `a`: `a·sqrt(4·crh − 1)`.
-fn ogive_nose_length(diameter: f64, crh: f64) -> f64 {
+pub fn ogive_nose_length(diameter: f64, crh: f64) -> f64 {
     0.5 * diameter * (4.0 * crh - 1.0).sqrt()
 }
 

@@ -202,16 +202,21 @@ pub struct RunSettings {
 }
 
 /// `--backend gpu` needs an adapter: say so before the first run rather than in every row.
-pub fn check_backend(backend: Backend, adapter: Option<&str>) -> Result<(), SweepError> {
-    if backend == Backend::Gpu {
-        crate::gpu::Gpu::new(adapter).map_err(|e| {
-            SweepError::Backend(format!(
-                "--backend gpu: {e} (on Debian, `apt-get install mesa-vulkan-drivers` gives the \
-                 software adapter lavapipe; or use --backend cpu)"
-            ))
-        })?;
+/// Returns the adapter's name as run summaries give it (`None` for the other backends).
+pub fn check_backend(
+    backend: Backend,
+    adapter: Option<&str>,
+) -> Result<Option<String>, SweepError> {
+    if backend != Backend::Gpu {
+        return Ok(None);
     }
-    Ok(())
+    let gpu = crate::gpu::Gpu::new(adapter).map_err(|e| {
+        SweepError::Backend(format!(
+            "--backend gpu: {e} (on Debian, `apt-get install mesa-vulkan-drivers` gives the \
+             software adapter lavapipe; or use --backend cpu)"
+        ))
+    })?;
+    Ok(Some(gpu.adapter_name()))
 }
 
 /// Runs `planned` one after another, in process. A run that goes unstable or cannot start is

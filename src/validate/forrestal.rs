@@ -28,6 +28,11 @@ impl Inputs {
         82.6 * (self.fc * 1e-6).powf(-0.544)
     }
 
+    /// The stress the equation assumes on the buried nose at speed `v`, `S f_c + N ρ v²` (Pa).
+    pub fn tunnel_stress(&self, v: f64) -> f64 {
+        self.strength_factor() * self.fc + self.nose_factor() * self.density * v * v
+    }
+
     /// Final depth (m) at striking speed `vs` (m/s):
     /// `P = (m/(2πa²ρN)) ln(1 + NρV₁²/(S f_c)) + 4a`,
     /// `V₁² = (mV_s² − 4πa³S f_c)/(m + 4πa³ρN)` (the speed left after the 4a-deep crater).
@@ -91,13 +96,13 @@ mod tests {
         let area = std::f64::consts::PI * a * a;
         let (mut t, mut z, mut v) = (0.0, 0.0, 600.0);
         let dt = 2e-6;
+        let decel = |v: f64| area * (r + n * rho * v * v) / m;
         let (mut time, mut depth, mut speed) = (vec![], vec![], vec![]);
         while v > 0.0 {
             time.push(t);
             depth.push(z);
             speed.push(v);
             // Midpoint step: ample for a smooth ODE at this step.
-            let decel = |v: f64| area * (r + n * rho * v * v) / m;
             let vm = v - 0.5 * dt * decel(v);
             z += dt * vm;
             v -= dt * decel(vm);

@@ -271,8 +271,8 @@ struct Context<'a> {
     reused: usize,
     /// Runs taken from an earlier process's output (`--resume`).
     resumed: usize,
-    /// With `--resume` and a GPU backend: the adapter's name as run summaries give it; only GPU
-    /// runs made on it are taken.
+    /// With a GPU backend: the adapter's name as run summaries give it; `--resume` takes only
+    /// GPU runs made on it.
     gpu_adapter: Option<String>,
     estimate: usize,
     progress: &'a mut dyn FnMut(&str),
@@ -491,16 +491,10 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
     if opts.backends.is_empty() {
         return Err(ValidateError::Input("no backend to run on".into()));
     }
+    let mut gpu_adapter = None;
     for &b in &opts.backends {
-        sweep::check_backend(b, opts.adapter.as_deref())?;
+        gpu_adapter = gpu_adapter.or(sweep::check_backend(b, opts.adapter.as_deref())?);
     }
-    let gpu_adapter = if opts.resume && opts.backends.contains(&Backend::Gpu) {
-        let gpu = crate::gpu::Gpu::new(opts.adapter.as_deref())
-            .map_err(|e| ValidateError::Backend(format!("--backend gpu: {e}")))?;
-        Some(gpu.adapter_name())
-    } else {
-        None
-    };
     let chosen = sections(opts);
     for s in &chosen {
         let dir = opts.out.join(s.name());

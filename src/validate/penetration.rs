@@ -2,7 +2,7 @@
 //! the target-size check, and depth error against run time at four resolutions per backend.
 
 use crate::plot::{Chart, Mark};
-use crate::scene::{ProjectileShape, Scene};
+use crate::scene::{self, ProjectileShape, Scene};
 use crate::sweep::{self, RunRecord};
 
 use super::data::{self, Shot};
@@ -298,7 +298,7 @@ fn resistance(
         };
         let inputs = c.equation()?;
         let a = inputs.shank_radius;
-        let nose_length = a * (4.0 * inputs.crh - 1.0).max(0.0).sqrt();
+        let nose_length = scene::ogive_nose_length(2.0 * a, inputs.crh);
         let h = match super::history(&r.dir, &["time_s", "depth_m", "projectile_velocity_m_s"]) {
             Ok(h) => h,
             Err(e) => {
@@ -323,10 +323,7 @@ fn resistance(
                 sigma.to_string(),
             ]);
         }
-        let law = |v: f64| {
-            inputs.strength_factor() * inputs.fc + inputs.nose_factor() * inputs.density * v * v
-        };
-        laws.push((inputs.fc, law(0.0), inputs.nose_factor() * inputs.density));
+        laws.push(inputs);
         let near = points.iter().min_by(|p, q| {
             (p.0 - RESISTANCE_SPEED)
                 .abs()
@@ -337,8 +334,8 @@ fn resistance(
                 format!("{}", c.shot.velocity),
                 format!("{v:.0}"),
                 format!("{:.0}", sigma * 1e-6),
-                format!("{:.0}", law(v) * 1e-6),
-                pct(sigma / law(v) - 1.0),
+                format!("{:.0}", inputs.tunnel_stress(v) * 1e-6),
+                pct(sigma / inputs.tunnel_stress(v) - 1.0),
             ]);
         }
         let mpa: Vec<(f64, f64)> = points.iter().map(|&(v, s)| (v, s * 1e-6)).collect();
@@ -348,17 +345,17 @@ fn resistance(
             Mark::Line,
         );
     }
-    // Forrestal's law for the mean f_c of the shots drawn (they differ by a few per cent).
+    // Forrestal's law averaged over the shots drawn (their f_c differ by a few per cent).
     if !laws.is_empty() {
-        let k = laws.len() as f64;
-        let (fc, r0, n_rho) = laws.iter().fold((0.0, 0.0, 0.0), |s, l| {
-            (s.0 + l.0 / k, s.1 + l.1 / k, s.2 + l.2 / k)
-        });
+        let mean = |f: &dyn Fn(&forrestal::Inputs) -> f64| {
+            laws.iter().map(f).sum::<f64>() / laws.len() as f64
+        };
+        let fc = mean(&|l| l.fc);
         let top = cases.iter().map(|c| c.shot.velocity).fold(0.0, f64::max);
         let curve = (0..=40)
             .map(|i| {
                 let v = top * i as f64 / 40.0;
-                (v, (r0 + n_rho * v * v) * 1e-6)
+                (v, mean(&|l| l.tunnel_stress(v)) * 1e-6)
             })
             .collect();
         chart = chart.series(
