@@ -3,7 +3,8 @@
 // in the CPU twin's header: a_i = (1/r_i) Σ_j m̃_j [w_i σ_i/ρ_i² + w_j σ_j/ρ_j² − r̄_ij Π_ij I
 // (+ R_ij f_ij^n)] · ∇_i W_ij with w = r for a neighbour and −r for a mirror ghost pair, plus the
 // hoop source a_r += −σ_θθ n_i/(ρ r); Monaghan–Gingold viscosity Π_ij with its heating,
-// Gray–Monaghan artificial stress R when enabled, and the work-conjugate energy rate.
+// Gray–Monaghan artificial stress R when enabled, the Balsara switch on Π when enabled, and the
+// work-conjugate energy rate.
 // Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
 // Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
 
@@ -23,22 +24,25 @@
 @group(0) @binding(12) var<storage, read> s_tt: array<f32>;
 @group(0) @binding(13) var<storage, read> sound: array<f32>;
 @group(0) @binding(14) var<storage, read> m_tilde: array<f32>;
+@group(0) @binding(15) var<storage, read> visc_switch: array<f32>;
 // Written by `prologue`, read by `forces`: the state's σ/ρ² and R, and what a neighbour
-// contributes packed for one load each: (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and (c, ρ).
-@group(0) @binding(15) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
-@group(0) @binding(16) var<storage, read_write> art_stress: array<array<f32, 3>>;
-@group(0) @binding(17) var<storage, read_write> pair_s: array<vec4<f32>>;
-@group(0) @binding(18) var<storage, read_write> pair_c: array<vec2<f32>>;
-@group(0) @binding(19) var<storage, read_write> ar: array<f32>;
-@group(0) @binding(20) var<storage, read_write> az: array<f32>;
-@group(0) @binding(21) var<storage, read_write> de_visc: array<f32>;
-@group(0) @binding(22) var<storage, read_write> mu_visc: array<f32>;
-@group(0) @binding(23) var<storage, read_write> de_work: array<f32>;
+// contributes packed for one load each: (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and (c, ρ, factor on Π).
+@group(0) @binding(16) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
+@group(0) @binding(17) var<storage, read_write> art_stress: array<array<f32, 3>>;
+@group(0) @binding(18) var<storage, read_write> pair_s: array<vec4<f32>>;
+@group(0) @binding(19) var<storage, read_write> pair_c: array<vec4<f32>>;
+@group(0) @binding(20) var<storage, read_write> ar: array<f32>;
+@group(0) @binding(21) var<storage, read_write> az: array<f32>;
+@group(0) @binding(22) var<storage, read_write> de_visc: array<f32>;
+@group(0) @binding(23) var<storage, read_write> mu_visc: array<f32>;
+@group(0) @binding(24) var<storage, read_write> de_work: array<f32>;
 
 // The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
 // constant, so a scene without it compiles without it (a branch not taken still costs on a
 // SIMD-on-CPU adapter such as lavapipe, which runs both sides under a mask).
 override ART_STRESS: bool;
+// The Balsara switch is on (SphParams::balsara): Π is scaled by the pair's mean visc_switch.
+override BALSARA: bool;
 
 // η² of the viscosity's singularity guard, in units of h².
 const ETA2: f32 = 0.01;
@@ -72,7 +76,7 @@ fn prologue(@builtin(global_invocation_id) gid: vec3<u32>) {
     let sr = vec3<f32>((s_rr[j] - p[j]) * inv, (s_zz[j] - p[j]) * inv, s_rz[j] * inv);
     stress_rho2[j] = array<f32, 3>(sr.x, sr.y, sr.z);
     pair_s[j] = vec4<f32>(sr, m_tilde[j]);
-    pair_c[j] = vec2<f32>(sound[j], rho[j]);
+    pair_c[j] = vec4<f32>(sound[j], rho[j], visc_switch[j], 0.0);
     if (ART_STRESS) {
         let a = artificial_stress(u.art_stress_eps, s_rr[j] - p[j], s_zz[j] - p[j], s_rz[j], rho[j]);
         art_stress[j] = array<f32, 3>(a.x, a.y, a.z);
@@ -94,6 +98,7 @@ struct Gather {
     v: vec2<f32>,
     sound: f32,
     rho: f32,
+    visc_switch: f32,
     // hoop_radius(r_i)
     ri: f32,
 }
@@ -124,7 +129,10 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
         let cj = pair_c[j];
         let c_mean = 0.5 * ((*g).sound + cj.x);
         let rho_mean = 0.5 * ((*g).rho + cj.y);
-        let pi = 0.5 * (ri + rj) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
+        var pi = 0.5 * (ri + rj) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
+        if (BALSARA) {
+            pi *= 0.5 * ((*g).visc_switch + cj.z);
+        }
         t.x -= pi;
         t.y -= pi;
         (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y) / ri;
@@ -152,7 +160,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ki = kin[i];
     let ci = pair_c[i];
     var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw,
-        ci.x, ci.y, hoop_radius(ki.x, u.kernel.h));
+        ci.x, ci.y, ci.z, hoop_radius(ki.x, u.kernel.h));
     if (ART_STRESS) {
         g.art = vec3_of(art_stress[i]);
     }

@@ -1,6 +1,7 @@
 // `sph_rates` (CPU twin: src/cpu/sph_rates.rs): per particle, the velocity gradient
 // L = G M⁻¹ gathered over neighbours and axis ghosts with planar areas m̃/ρ (physics.md §3),
-// corrected where M is well conditioned, and the density rate ρ̇ = −ρ (L_rr + L_zz + v_r/r).
+// corrected where M is well conditioned, and the density rate ρ̇ = −ρ (L_rr + L_zz + v_r/r);
+// with the Balsara switch on, each particle's factor on the viscosity from L.
 // Two entry points over one binding list: `areas` (m̃ and m̃/ρ per particle), then `gradient`.
 // Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
 
@@ -14,19 +15,27 @@
 @group(0) @binding(6) var<storage, read> nbr_count: array<u32>;
 @group(0) @binding(7) var<storage, read> mass: array<f32>;
 @group(0) @binding(8) var<storage, read> rho: array<f32>;
+@group(0) @binding(9) var<storage, read> sound: array<f32>;
 // Written by `areas`, read by `gradient`.
-@group(0) @binding(9) var<storage, read_write> m_tilde: array<f32>;
-@group(0) @binding(10) var<storage, read_write> area: array<f32>;
-@group(0) @binding(11) var<storage, read_write> l_rr: array<f32>;
-@group(0) @binding(12) var<storage, read_write> l_rz: array<f32>;
-@group(0) @binding(13) var<storage, read_write> l_zr: array<f32>;
-@group(0) @binding(14) var<storage, read_write> l_zz: array<f32>;
-@group(0) @binding(15) var<storage, read_write> drho: array<f32>;
+@group(0) @binding(10) var<storage, read_write> m_tilde: array<f32>;
+@group(0) @binding(11) var<storage, read_write> area: array<f32>;
+@group(0) @binding(12) var<storage, read_write> l_rr: array<f32>;
+@group(0) @binding(13) var<storage, read_write> l_rz: array<f32>;
+@group(0) @binding(14) var<storage, read_write> l_zr: array<f32>;
+@group(0) @binding(15) var<storage, read_write> l_zz: array<f32>;
+@group(0) @binding(16) var<storage, read_write> drho: array<f32>;
+@group(0) @binding(17) var<storage, read_write> visc_switch: array<f32>;
+
+// The Balsara switch is on (SphParams::balsara): a pipeline constant, as ART_STRESS in
+// sph_forces.wgsl. Off, visc_switch keeps the 1 it was uploaded with.
+override BALSARA: bool;
 
 // 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
 const TWO_PI: f32 = 6.2831855;
 // sph_rates.rs MIN_CORRECTION_DET.
 const MIN_CORRECTION_DET: f32 = 0.25;
+// sph_rates.rs BALSARA_FLOOR.
+const BALSARA_FLOOR: f32 = 1.0e-4;
 
 @compute @workgroup_size(64)
 fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -85,4 +94,9 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     l_zr[i] = l.z;
     l_zz[i] = l.w;
     drho[i] = -rho[i] * (l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h));
+    if (BALSARA) {
+        // sph_rates.rs `balsara`.
+        let div = abs(l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h));
+        visc_switch[i] = div / (div + abs(l.y - l.z) + BALSARA_FLOOR * sound[i] / u.kernel.h);
+    }
 }

@@ -22,7 +22,7 @@
 //!   `eos_k2`, `eos_k3`, `eos_gamma`, `damage`, `d1`…`d5`, `spall_stress`, `eps_f_min`
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
-//!   `viscosity_alpha` (1), `viscosity_beta` (2)
+//!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara")
 //! - `[target.concrete]` (optional) any [`Hjc`] field but `density` and `fc`, over
 //!   [`Hjc::from_fc`]
 //! - `[contact]` (optional) `lambda` (0.2), `slave_radius_factor` (1.5)
@@ -168,8 +168,29 @@ pub struct TargetSpec {
     /// Monaghan–Gingold viscosity coefficients.
     pub viscosity_alpha: f64,
     pub viscosity_beta: f64,
+    /// What scales the viscosity down where the flow shears rather than compresses.
+    pub viscosity_switch: ViscositySwitch,
     /// HJC constants: §3.1 rule from `fc` and `density`, then any explicit overrides.
     pub concrete: Hjc,
+}
+
+/// `target.viscosity_switch`: the factor on each pair's Monaghan–Gingold Π.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViscositySwitch {
+    /// Π as it is: the viscosity acts on every approaching pair, in shear too.
+    None,
+    /// Π times the pair's mean Balsara (1995) factor `|∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h)`:
+    /// full in a compression, none in a pure shear.
+    Balsara,
+}
+
+impl ViscositySwitch {
+    pub fn name(self) -> &'static str {
+        match self {
+            ViscositySwitch::None => "none",
+            ViscositySwitch::Balsara => "balsara",
+        }
+    }
 }
 
 /// `[contact]`
@@ -859,6 +880,7 @@ struct RawTarget {
     artificial_stress: Option<bool>,
     viscosity_alpha: Option<f64>,
     viscosity_beta: Option<f64>,
+    viscosity_switch: Option<String>,
     concrete: Option<RawHjc>,
 }
 
@@ -1551,6 +1573,13 @@ fn resolve_target(
         t.viscosity_beta.unwrap_or(2.0),
         "-",
     )?;
+    let viscosity_switch = match t.viscosity_switch.as_deref() {
+        None => ViscositySwitch::None,
+        Some(name) => match c.choice("target.viscosity_switch", name, &["none", "balsara"])? {
+            "none" => ViscositySwitch::None,
+            _ => ViscositySwitch::Balsara,
+        },
+    };
     c.require(
         (5.0e6..=200.0e6).contains(&fc),
         "target.fc",
@@ -1568,6 +1597,7 @@ fn resolve_target(
         artificial_stress: t.artificial_stress.unwrap_or(false),
         viscosity_alpha,
         viscosity_beta,
+        viscosity_switch,
         concrete: resolve_hjc(c, fc, density, t.concrete.as_ref())?,
     })
 }
@@ -1749,6 +1779,11 @@ impl Scene {
             );
             out.line("target.viscosity_alpha", num(t.viscosity_alpha), "-");
             out.line("target.viscosity_beta", num(t.viscosity_beta), "-");
+            out.text(
+                "target.viscosity_switch",
+                t.viscosity_switch.name(),
+                "\"none\" | \"balsara\"",
+            );
             let h = &t.concrete;
             for (field, value, unit) in [
                 ("shear_modulus", h.shear_modulus, "Pa"),

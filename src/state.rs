@@ -50,6 +50,10 @@ pub struct Particles {
     /// Rate of the work-conjugate energy (W/kg), from `sph_forces`, at its velocities.
     pub de_work: Vec<f32>,
     pub mu_visc: Vec<f32>,
+    /// The factor on this particle's viscosity, from `sph_rates`: 1 without a switch, the
+    /// Balsara factor `|∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h)` with `target.viscosity_switch =
+    /// "balsara"`. A pair's Π is scaled by the mean of its two factors.
+    pub visc_switch: Vec<f32>,
     /// Per-radian-area mass m̃ = m/(2π r) and planar area m̃/ρ, from `sph_rates`.
     pub m_tilde: Vec<f32>,
     pub area: Vec<f32>,
@@ -111,6 +115,7 @@ impl Particles {
             de_visc: zero.clone(),
             de_work: zero.clone(),
             mu_visc: zero.clone(),
+            visc_switch: vec![1.0; n],
             m_tilde: zero.clone(),
             area: zero,
             stress_rho2: vec![[0.0; 3]; n],
@@ -128,6 +133,8 @@ pub struct SphParams {
     pub concrete: Hjc,
     pub alpha: f32,
     pub beta: f32,
+    /// Scale Π by the Balsara switch (`target.viscosity_switch = "balsara"`).
+    pub balsara: bool,
     /// Gray–Monaghan artificial stress factor ε (0 = off) and exponent n.
     pub art_stress_eps: f32,
     pub art_stress_n: f32,
@@ -145,6 +152,7 @@ impl SphParams {
             concrete: spec.concrete,
             alpha: spec.viscosity_alpha as f32,
             beta: spec.viscosity_beta as f32,
+            balsara: spec.viscosity_switch == crate::scene::ViscositySwitch::Balsara,
             art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },
             art_stress_n: 4.0,
             w_spacing: kernel.w(spec.spacing as f32),

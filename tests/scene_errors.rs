@@ -290,6 +290,11 @@ fn bad_choices_and_conflicting_keys() {
         &["projectile.material.preset", "4340-rc45"],
     );
     refused(
+        &smoke_text(),
+        &["target.viscosity_switch=\"morris\""],
+        &["target.viscosity_switch", "\"none\", \"balsara\""],
+    );
+    refused(
         &smoke_with("shape = \"ogive\"", "shape = \"cylinder\""),
         &[],
         &["projectile.crh", "cylinder has no crh"],

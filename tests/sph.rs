@@ -1,11 +1,12 @@
 //! SPH target without a projectile (physics.md §3): rest stays rest, linear velocity fields give
 //! exact velocity gradients and simple stress fields the cylindrical divergence (axis ghosts
-//! included), and a crushing slug conserves energy and axial momentum.
+//! included), a crushing slug conserves energy and axial momentum (with the Balsara switch too),
+//! and the switch takes the viscosity out of a shear and leaves it in a compression.
 
 use penetrate::cpu::{concrete, integrate, neighbours, sph_forces, sph_rates};
 use penetrate::materials::hjc::Hjc;
 use penetrate::mesh::target::lattice;
-use penetrate::scene::TargetSpec;
+use penetrate::scene::{TargetSpec, ViscositySwitch};
 use penetrate::state::{Particles, SphParams};
 
 fn spec(fix: bool) -> TargetSpec {
@@ -19,6 +20,7 @@ fn spec(fix: bool) -> TargetSpec {
         artificial_stress: true,
         viscosity_alpha: 1.0,
         viscosity_beta: 2.0,
+        viscosity_switch: ViscositySwitch::None,
         concrete: Hjc::from_fc(35e6, 2370.0),
     }
 }
@@ -207,7 +209,21 @@ fn stress_fields_give_the_cylindrical_divergence() {
 /// boundary acts, so the axial momentum is conserved to f32 round-off (1e-5 of the slug's).
 #[test]
 fn slug_impact_energy_closes() {
-    let s = spec(false);
+    slug_impact(ViscositySwitch::None);
+}
+
+/// The same with the Balsara switch: the scaled Π stays symmetric in the pair and its heating
+/// is booked with it.
+#[test]
+fn slug_impact_energy_closes_with_the_balsara_switch() {
+    slug_impact(ViscositySwitch::Balsara);
+}
+
+fn slug_impact(switch: ViscositySwitch) {
+    let s = TargetSpec {
+        viscosity_switch: switch,
+        ..spec(false)
+    };
     let (mut p, params) = target(&s);
     let slug = |p: &Particles, i: usize| p.r[i] < 0.012 && p.z[i] > -0.008;
     for i in 0..p.len() {
@@ -257,4 +273,98 @@ fn slug_impact_energy_closes() {
     let drift = (momentum(&p) - p0) / p0;
     eprintln!("slug: axial momentum drift {drift:.2e}");
     assert!(drift.abs() < 1e-5, "axial momentum drift {drift:e}");
+}
+
+/// The Balsara switch (`target.viscosity_switch = "balsara"`) on a free target at rest in
+/// stress, with a prescribed velocity field, at the particles two supports inside the free faces
+/// and off the axis (where the corrected gradient of a linear field is exact):
+/// - a simple shear `v_z = γ r` (∇·v = 0, |∇×v| = γ) gets factors below 10⁻³ and viscous
+///   heating below 10⁻³ of the unswitched one;
+/// - a curl-free compression `v = (a r, b z)` gets Balsara's `|2a + b|/(|2a + b| + 10⁻⁴ c/h)`
+///   (0.989 here) to 10⁻⁴, and the unswitched acceleration and heating times that factor to
+///   10⁻³ of the largest.
+#[test]
+fn balsara_switch_removes_the_viscosity_from_shear_only() {
+    let plain = spec(false);
+    let switched = TargetSpec {
+        viscosity_switch: ViscositySwitch::Balsara,
+        ..spec(false)
+    };
+    let (p0, params_off) = target(&plain);
+    let params_on = SphParams::new(&switched);
+    assert!(params_on.balsara && !params_off.balsara);
+    let mut grid = neighbours::CellGrid::default();
+    neighbours::run(&mut grid, &p0.r, &p0.z, integrate::support(&params_off));
+    let support = integrate::support(&params_off) as f64;
+    let inner = |p: &Particles, i: usize| {
+        let (r, z) = (p.r[i] as f64, p.z[i] as f64);
+        r > 2.0 * support
+            && r + 2.0 * support < plain.radius
+            && z + 2.0 * support < 0.0
+            && z - 2.0 * support > -plain.thickness
+    };
+    let forces = |v: &dyn Fn(f32, f32) -> (f32, f32), params: &SphParams| {
+        let mut p = p0.clone();
+        for i in 0..p.len() {
+            (p.vr[i], p.vz[i]) = v(p.r[i], p.z[i]);
+        }
+        sph_rates::run(&mut p, &grid, params);
+        sph_forces::run(&mut p, &grid, params);
+        p
+    };
+    let inside: Vec<usize> = (0..p0.len()).filter(|&i| inner(&p0, i)).collect();
+    assert!(inside.len() > 20, "{} particles inside", inside.len());
+
+    let gamma = 1.0e4f32;
+    let shear = |r: f32, _z: f32| (0.0, gamma * r);
+    let (off, on) = (forces(&shear, &params_off), forces(&shear, &params_on));
+    let heat = |p: &Particles| inside.iter().map(|&i| p.de_visc[i] as f64).sum::<f64>();
+    let largest = inside
+        .iter()
+        .map(|&i| on.visc_switch[i])
+        .fold(0.0f32, f32::max);
+    eprintln!(
+        "shear: largest factor {largest:e}, heating {:e} switched vs {:e}",
+        heat(&on),
+        heat(&off)
+    );
+    assert!(largest < 1e-3, "largest factor in shear {largest}");
+    assert!(
+        heat(&off) > 0.0,
+        "no viscous heating in the shear to remove"
+    );
+    assert!(heat(&on).abs() < 1e-3 * heat(&off), "heating left in shear");
+    assert!(
+        off.visc_switch.iter().all(|&f| f == 1.0),
+        "switch off: factor 1"
+    );
+
+    let (a, b) = (-3.0e3f32, -5.0e3f32);
+    let squeeze = |r: f32, z: f32| (a * r, b * z);
+    let (off, on) = (forces(&squeeze, &params_off), forces(&squeeze, &params_on));
+    let div = (2.0 * a + b).abs();
+    let factor = div / (div + 1e-4 * p0.sound[0] / params_on.h);
+    let spread = inside
+        .iter()
+        .map(|&i| (on.visc_switch[i] - factor).abs())
+        .fold(0.0f32, f32::max);
+    eprintln!("compression: factor {factor}, largest departure {spread:e}");
+    // The axial pair terms of a uniform compression cancel to round-off in the interior, so
+    // both components are measured against the largest acceleration.
+    let largest = |v: &[f32]| inside.iter().map(|&i| v[i].abs()).fold(0.0f32, f32::max);
+    let acc = largest(&off.ar).max(largest(&off.az));
+    for (name, x, y, s) in [
+        ("ar", &on.ar, &off.ar, acc),
+        ("az", &on.az, &off.az, acc),
+        ("de_visc", &on.de_visc, &off.de_visc, largest(&off.de_visc)),
+    ] {
+        assert!(s > 0.0, "{name} is zero in the compression");
+        let e = inside
+            .iter()
+            .map(|&i| (x[i] - factor * y[i]).abs())
+            .fold(0.0f32, f32::max)
+            / s;
+        eprintln!("compression: {name} differs from factor × unswitched by {e:e} of its largest");
+        assert!(e < 1e-3, "{name} differs by {e} with the switch");
+    }
 }

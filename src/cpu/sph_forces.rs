@@ -22,6 +22,11 @@
 //! (h the hoop source) gives each particle half of each pair's work, Galilean invariant, and
 //! the particles together exactly what their motion lost. Viscosity and artificial stress are
 //! in the bracket and so in it. A mirror ghost enters with its mirrored velocity.
+//!
+//! With the Balsara switch each pair's Π is scaled by the mean of the two particles' factors
+//! (`visc_switch`, from `sph_rates`); the pair stays symmetric, so the conservation above holds.
+//! `mu_visc`, which the time step reads, is the unscaled μ: the step does not grow where the
+//! switch turns the viscosity off.
 
 use rayon::prelude::*;
 
@@ -53,6 +58,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         de_visc,
         de_work,
         mu_visc,
+        visc_switch,
         m_tilde,
         stress_rho2,
         art_stress,
@@ -80,7 +86,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 );
             }
         });
-    let (r, z, vr, vz, rho, p, s_tt, sound, m_tilde, sigma, art) = (
+    let (r, z, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, sigma, art) = (
         &*r,
         &*z,
         &*vr,
@@ -89,6 +95,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         &*p,
         &*s_tt,
         &*sound,
+        &*visc_switch,
         &*m_tilde,
         &*stress_rho2,
         &*art_stress,
@@ -132,9 +139,12 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                     let mu = h * vx / (nb.dist * nb.dist + ETA2 * h * h);
                     let c_mean = 0.5 * (sound[i] + sound[j]);
                     let rho_mean = 0.5 * (rho[i] + rho[j]);
-                    let pi =
+                    let mut pi =
                         0.5 * (ri + rj) * (-params.alpha * c_mean * mu + params.beta * mu * mu)
                             / rho_mean;
+                    if params.balsara {
+                        pi *= 0.5 * (visc_switch[i] + visc_switch[j]);
+                    }
                     t[0] -= pi;
                     t[1] -= pi;
                     heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]) / ri;

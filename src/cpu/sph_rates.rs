@@ -4,7 +4,8 @@
 //! With per-radian-area masses m̃ = m/(2π r) the planar SPH sums hold in the (r, z) plane:
 //! a particle's area is m̃/ρ. `G = Σ_j (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij` is corrected by the
 //! inverse of `M = Σ_j (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇_i W_ij` (exact for linear fields) where M is
-//! well conditioned; `ρ̇ = −ρ (L_rr + L_zz + v_r/r)`.
+//! well conditioned; `ρ̇ = −ρ (L_rr + L_zz + v_r/r)`. With the Balsara switch on it also writes
+//! each particle's factor on the viscosity from L (see [`balsara`]).
 
 use rayon::prelude::*;
 
@@ -40,6 +41,8 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         drho,
         m_tilde,
         area,
+        sound,
+        visc_switch,
         ..
     } = particles;
     m_tilde
@@ -84,7 +87,26 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *lzz = l[3];
             *dr_out = -rho[i] * (l[0] + l[3] + vr[i] / hoop_radius(r[i], h));
         });
+    if params.balsara {
+        let (l_rr, l_rz, l_zr, l_zz, sound) = (&*l_rr, &*l_rz, &*l_zr, &*l_zz, &*sound);
+        visc_switch.par_iter_mut().enumerate().for_each(|(i, f)| {
+            let div = l_rr[i] + l_zz[i] + vr[i] / hoop_radius(r[i], h);
+            *f = balsara(div, l_rz[i] - l_zr[i], sound[i], h);
+        });
+    }
 }
+
+/// Balsara's (1995) factor on the viscosity, `|∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h)`: near 1 where
+/// the flow compresses or expands, near 0 where it shears. In the r–z plane of an axisymmetric
+/// flow the curl has one component, `∂v_r/∂z − ∂v_z/∂r`; the divergence has the hoop rate
+/// `v_r/r`. The `10⁻⁴ c/h` keeps the ratio defined at rest (where it gives 0).
+pub fn balsara(div: f32, curl: f32, sound: f32, h: f32) -> f32 {
+    let div = div.abs();
+    div / (div + curl.abs() + BALSARA_FLOOR * sound / h)
+}
+
+/// The floor of the Balsara denominator, in units of c/h.
+const BALSARA_FLOOR: f32 = 1.0e-4;
 
 /// L = G M⁻¹ where det M is large enough, else G.
 fn correct(g: [f32; 4], m: [f32; 4]) -> [f32; 4] {

@@ -5,10 +5,10 @@ use super::state::GpuParticles;
 use super::{source, Gpu, Kernel, Slot};
 
 /// Bindings of shaders/sph_forces.wgsl, shared by both entry points: SphUniform, the grid
-/// (GridInfo, cell_start, sorted), kin and the lists, 8 read fields, then what `prologue`
-/// writes for `forces` (stress_rho2, art_stress, pair_s, pair_c) and the four outputs of
+/// (GridInfo, cell_start, sorted), kin and the lists, 9 read fields, then what `prologue`
+/// writes for `forces` (stress_rho2, art_stress, pair_s, pair_c) and the five outputs of
 /// `forces`.
-const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 14), (Slot::ReadWrite, 9)];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 15), (Slot::ReadWrite, 9)];
 
 /// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
 /// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
@@ -31,6 +31,7 @@ impl SphForcesPass {
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
         art_stress: bool,
+        balsara: bool,
     ) -> Result<SphForcesPass, String> {
         let src = source(&[
             include_str!("../../shaders/params.wgsl"),
@@ -38,13 +39,16 @@ impl SphForcesPass {
             include_str!("../../shaders/neighbour_loop.wgsl"),
             include_str!("../../shaders/sph_forces.wgsl"),
         ]);
-        let art = [("ART_STRESS", f64::from(u8::from(art_stress)))];
+        let art = [
+            ("ART_STRESS", f64::from(u8::from(art_stress))),
+            ("BALSARA", f64::from(u8::from(balsara))),
+        ];
         let prologue = gpu.kernel_with("sph_forces.prologue", &src, "prologue", SLOTS, &art)?;
         let forces = gpu.kernel_with("sph_forces.forces", &src, "forces", SLOTS, &art)?;
         let p = particles;
         let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         let pair_s = gpu.zeros::<[f32; 4]>("sph_forces pair_s", p.len);
-        let pair_c = gpu.zeros::<[f32; 2]>("sph_forces pair_c", p.len);
+        let pair_c = gpu.zeros::<[f32; 4]>("sph_forces pair_c", p.len);
         let buffers = [
             sph_uniform,
             info,
@@ -61,6 +65,7 @@ impl SphForcesPass {
             &p.s_tt,
             &p.sound,
             &p.m_tilde,
+            &p.visc_switch,
             &p.stress_rho2,
             &p.art_stress,
             &pair_s,
@@ -120,7 +125,7 @@ mod tests {
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
-        let pass = SphForcesPass::new(&gpu, &gp, &grid, &uniform, art_on).unwrap();
+        let pass = SphForcesPass::new(&gpu, &gp, &grid, &uniform, art_on, sph.balsara).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -180,5 +185,10 @@ mod tests {
     #[test]
     fn sph_forces_with_artificial_stress_match_cpu() {
         compare(&["target.artificial_stress=true".into()], true);
+    }
+
+    #[test]
+    fn sph_forces_with_balsara_switch_match_cpu() {
+        compare(&["target.viscosity_switch=\"balsara\"".into()], true);
     }
 }

@@ -5,12 +5,13 @@ use super::state::GpuParticles;
 use super::{source, Gpu, Kernel, Slot};
 
 /// Bindings of shaders/sph_rates.wgsl: SphUniform, the grid (GridInfo, cell_start, sorted),
-/// kin and the lists, mass and rho, then m_tilde and area (written by `areas`, read by
-/// `gradient`) and the 5 outputs of `gradient`.
-const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 8), (Slot::ReadWrite, 7)];
+/// kin and the lists, mass, rho and sound, then m_tilde and area (written by `areas`, read by
+/// `gradient`) and the 6 outputs of `gradient`.
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 9), (Slot::ReadWrite, 8)];
 
 /// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
-/// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz and drho.
+/// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz and drho, and
+/// visc_switch when the Balsara switch is on.
 pub struct SphRatesPass {
     areas: Kernel,
     gradient: Kernel,
@@ -24,6 +25,7 @@ impl SphRatesPass {
         particles: &GpuParticles,
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
+        balsara: bool,
     ) -> Result<SphRatesPass, String> {
         let src = source(&[
             include_str!("../../shaders/params.wgsl"),
@@ -31,8 +33,9 @@ impl SphRatesPass {
             include_str!("../../shaders/neighbour_loop.wgsl"),
             include_str!("../../shaders/sph_rates.wgsl"),
         ]);
-        let areas = gpu.kernel("sph_rates.areas", &src, "areas", SLOTS)?;
-        let gradient = gpu.kernel("sph_rates.gradient", &src, "gradient", SLOTS)?;
+        let switch = [("BALSARA", f64::from(u8::from(balsara)))];
+        let areas = gpu.kernel_with("sph_rates.areas", &src, "areas", SLOTS, &switch)?;
+        let gradient = gpu.kernel_with("sph_rates.gradient", &src, "gradient", SLOTS, &switch)?;
         let p = particles;
         let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         // One layout for both entry points, so one bind group serves both.
@@ -48,6 +51,7 @@ impl SphRatesPass {
                 nbr_count,
                 &p.mass,
                 &p.rho,
+                &p.sound,
                 &p.m_tilde,
                 &p.area,
                 &p.l_rr,
@@ -55,6 +59,7 @@ impl SphRatesPass {
                 &p.l_zr,
                 &p.l_zz,
                 &p.drho,
+                &p.visc_switch,
             ],
         );
         Ok(SphRatesPass {
@@ -81,10 +86,10 @@ mod tests {
 
     /// One sph_rates pass agrees with cpu::sph_rates::run on the smoke state (a crater, the
     /// axis, free surfaces where the correction is skipped), walking the neighbour lists or,
-    /// where they overflowed, the grid.
-    fn compare(lists: bool) {
+    /// where they overflowed, the grid; with the Balsara switch, its factors too.
+    fn compare(overrides: &[String], lists: bool) {
         let gpu = test_gpu();
-        let sim = smoke(SMOKE_STEPS, &[]);
+        let sim = smoke(SMOKE_STEPS, overrides);
         let sph = sim.sph.expect("smoke has a target");
         let mut cpu = sim.particles.clone();
         crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
@@ -102,10 +107,13 @@ mod tests {
         ] {
             v.fill(f32::NAN);
         }
+        if sph.balsara {
+            start.visc_switch.fill(f32::NAN);
+        }
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
-        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform).unwrap();
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, sph.balsara).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -125,6 +133,16 @@ mod tests {
             assert!(e <= 1.0e-5, "{name}: relative error {e:e}");
         }
         check_gradients(&format!("lists {lists}"), &back, &cpu);
+        // A ratio of sums already compared; 1 exactly when the switch is off.
+        let e = field_error(&back.visc_switch, &cpu.visc_switch);
+        eprintln!("sph_rates visc_switch: relative error {e:e}");
+        assert!(e <= 1.0e-4, "visc_switch: relative error {e:e}");
+        if sph.balsara {
+            let partial = cpu.visc_switch.iter().filter(|&&f| f > 0.05 && f < 0.95);
+            assert!(partial.count() > 0, "no particle with a partial switch");
+        } else {
+            assert!(back.visc_switch.iter().all(|&f| f == 1.0));
+        }
     }
 
     /// The velocity gradients and density rates of `gpu` against `cpu`, to 1e-5 of each
@@ -145,12 +163,17 @@ mod tests {
 
     #[test]
     fn sph_rates_match_cpu() {
-        compare(true);
+        compare(&[], true);
     }
 
     #[test]
     fn sph_rates_on_overflowed_lists_match_cpu() {
-        compare(false);
+        compare(&[], false);
+    }
+
+    #[test]
+    fn sph_rates_with_balsara_switch_match_cpu() {
+        compare(&["target.viscosity_switch=\"balsara\"".into()], true);
     }
 
     /// Lists built with a skin and then used after the particles have moved (less than half
@@ -195,7 +218,7 @@ mod tests {
         let mut cpu = now.clone();
         crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
         gp.write(&gpu, &now);
-        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform).unwrap();
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, sph.balsara).unwrap();
         run_once(&gpu, |p| {
             neighbours.record(p, false);
             neighbours.record_displacement(p);

@@ -216,8 +216,13 @@ impl GpuStep {
                     capacity,
                     support * (1.0 + s.list_skin),
                 )?;
-                let rates =
-                    super::sph_rates::SphRatesPass::new(&gpu, &particles, &grid, &sph_uniform)?;
+                let rates = super::sph_rates::SphRatesPass::new(
+                    &gpu,
+                    &particles,
+                    &grid,
+                    &sph_uniform,
+                    params.balsara,
+                )?;
                 let concrete =
                     super::concrete::ConcretePass::new(&gpu, &particles, &sph_uniform, &clock)?;
                 let forces = super::sph_forces::SphForcesPass::new(
@@ -226,6 +231,7 @@ impl GpuStep {
                     &grid,
                     &sph_uniform,
                     params.art_stress_eps > 0.0,
+                    params.balsara,
                 )?;
                 let contact = if s.contact {
                     Some(ContactPass::new(
