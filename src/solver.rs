@@ -541,13 +541,12 @@ impl Simulation {
     }
 
     /// Penetration depth: how far the nose tip is beyond the original front face z = 0 (m).
+    /// The tip is the deepest node still held by an element that has not failed: a node whose
+    /// elements have all failed is debris, free to run ahead of the body, and is not the nose.
     pub fn depth(&self) -> f64 {
         let z_min = self
-            .projectile
-            .nodes
-            .z
-            .iter()
-            .copied()
+            .attached_nodes()
+            .map(|i| self.projectile.nodes.z[i])
             .fold(f32::MAX, f32::min) as f64;
         if self.scene.target.is_some() {
             (-z_min).max(0.0)
@@ -561,13 +560,32 @@ impl Simulation {
         -self.projectile_momentum() / self.projectile.total_mass
     }
 
-    /// (length along z, largest radius) of the projectile.
+    /// (length along z, largest radius) of the projectile, over its attached nodes (as
+    /// [`Simulation::depth`]).
     pub fn projectile_extent(&self) -> (f64, f64) {
         let n = &self.projectile.nodes;
-        let z_min = n.z.iter().copied().fold(f32::MAX, f32::min);
-        let z_max = n.z.iter().copied().fold(f32::MIN, f32::max);
-        let r_max = n.r.iter().copied().fold(0.0f32, f32::max);
+        let (mut z_min, mut z_max, mut r_max) = (f32::MAX, f32::MIN, 0.0f32);
+        for i in self.attached_nodes() {
+            z_min = z_min.min(n.z[i]);
+            z_max = z_max.max(n.z[i]);
+            r_max = r_max.max(n.r[i]);
+        }
         ((z_max - z_min) as f64, r_max as f64)
+    }
+
+    /// The projectile's nodes held by at least one element that has not failed; every node if
+    /// every element has failed (nothing is left to tell the body from its debris).
+    fn attached_nodes(&self) -> impl Iterator<Item = usize> + '_ {
+        let nodes = &self.projectile.nodes;
+        let failed = &self.projectile.elements.failed;
+        let held = |i: usize| {
+            let refs = nodes.elem_offsets[i] as usize..nodes.elem_offsets[i + 1] as usize;
+            nodes.elem_refs[refs]
+                .iter()
+                .any(|&e| failed[e as usize / 3] == 0)
+        };
+        let any_held = failed.contains(&0);
+        (0..nodes.len()).filter(move |&i| !any_held || held(i))
     }
 
     pub fn max_damage(&self) -> f64 {

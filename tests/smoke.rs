@@ -110,6 +110,40 @@ fn lambda_zero_projectile_is_rigid() {
         .any(|p| p.starts_with("fem_stress")));
 }
 
+/// Depth and extent follow the body, not its debris: a nose node whose elements have all failed
+/// and which has run 0.3 m ahead (as a light nose node did in a 800 m/s shot) moves neither;
+/// the same node still held by one element that has not failed moves both.
+#[test]
+fn depth_ignores_nodes_of_failed_elements_only() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    for _ in 0..50 {
+        sim.step().unwrap();
+    }
+    let (depth, extent) = (sim.depth(), sim.projectile_extent());
+    let n = &sim.projectile.nodes;
+    let tip = (0..n.len())
+        .min_by(|&a, &b| n.z[a].total_cmp(&n.z[b]))
+        .unwrap();
+    let refs: Vec<usize> = n.elem_refs
+        [n.elem_offsets[tip] as usize..n.elem_offsets[tip + 1] as usize]
+        .iter()
+        .map(|&e| e as usize / 3)
+        .collect();
+    assert!(!refs.is_empty());
+    sim.projectile.nodes.z[tip] -= 0.3;
+    for &e in &refs {
+        sim.projectile.elements.failed[e] = 1;
+    }
+    // The next deepest node is at most one element behind the old tip.
+    let element = scene.projectile.element_size;
+    assert!(sim.depth() <= depth && sim.depth() > depth - 2.0 * element);
+    assert!(sim.projectile_extent().0 <= extent.0);
+    sim.projectile.elements.failed[refs[0]] = 0;
+    assert!((sim.depth() - (depth + 0.3)).abs() < 1e-6);
+    assert!((sim.projectile_extent().0 - (extent.0 + 0.3)).abs() < 1e-6);
+}
+
 /// Bad input on the command line: exit code 2, a one-line message naming the file, no panic.
 #[test]
 fn cli_rejects_bad_input_without_panicking() {
