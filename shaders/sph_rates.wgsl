@@ -93,10 +93,11 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     l_rz[i] = l.y;
     l_zr[i] = l.z;
     l_zz[i] = l.w;
-    drho[i] = -rho[i] * (l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h));
+    let div = l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h);
+    drho[i] = -rho[i] * div;
     if (BALSARA) {
         // sph_rates.rs `balsara`.
-        let div = abs(l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h));
-        visc_switch[i] = div / (div + abs(l.y - l.z) + BALSARA_FLOOR * sound[i] / u.kernel.h);
+        let d = abs(div);
+        visc_switch[i] = d / (d + abs(l.y - l.z) + BALSARA_FLOOR * sound[i] / u.kernel.h);
     }
 }

@@ -53,14 +53,15 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *mt = mass[i] / (TWO_PI * hoop_radius(r[i], h));
             *a = *mt / rho[i];
         });
-    let (r, z, vr, vz, rho, area) = (&*r, &*z, &*vr, &*vz, &*rho, &*area);
+    let (r, z, vr, vz, rho, area, sound) = (&*r, &*z, &*vr, &*vz, &*rho, &*area, &*sound);
     l_rr.par_iter_mut()
         .zip(l_rz.par_iter_mut())
         .zip(l_zr.par_iter_mut())
         .zip(l_zz.par_iter_mut())
         .zip(drho.par_iter_mut())
+        .zip(visc_switch.par_iter_mut())
         .enumerate()
-        .for_each(|(i, ((((lrr, lrz), lzr), lzz), dr_out))| {
+        .for_each(|(i, (((((lrr, lrz), lzr), lzz), dr_out), f))| {
             let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
             let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
             for_each_neighbour(grid, r, z, i, support, |nb| {
@@ -85,15 +86,12 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *lrz = l[1];
             *lzr = l[2];
             *lzz = l[3];
-            *dr_out = -rho[i] * (l[0] + l[3] + vr[i] / hoop_radius(r[i], h));
+            let div = l[0] + l[3] + vr[i] / hoop_radius(r[i], h);
+            *dr_out = -rho[i] * div;
+            if params.balsara {
+                *f = balsara(div, l[1] - l[2], sound[i], h);
+            }
         });
-    if params.balsara {
-        let (l_rr, l_rz, l_zr, l_zz, sound) = (&*l_rr, &*l_rz, &*l_zr, &*l_zz, &*sound);
-        visc_switch.par_iter_mut().enumerate().for_each(|(i, f)| {
-            let div = l_rr[i] + l_zz[i] + vr[i] / hoop_radius(r[i], h);
-            *f = balsara(div, l_rz[i] - l_zr[i], sound[i], h);
-        });
-    }
 }
 
 /// Balsara's (1995) factor on the viscosity, `|∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h)`: near 1 where
