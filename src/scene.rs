@@ -22,7 +22,8 @@
 //!   `eos_k2`, `eos_k3`, `eos_gamma`, `damage`, `d1`…`d5`, `spall_stress`, `eps_f_min`
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
-//!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara")
+//!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara"),
+//!   `lead_hole_depth` (0), `lead_hole_diameter` (projectile.diameter)
 //! - `[target.concrete]` (optional) any [`Hjc`] field but `density` and `fc`, over
 //!   [`Hjc::from_fc`]
 //! - `[contact]` (optional) `lambda` (0.2), `slave_radius_factor` (1.5)
@@ -170,6 +171,10 @@ pub struct TargetSpec {
     pub viscosity_beta: f64,
     /// What scales the viscosity down where the flow shears rather than compresses.
     pub viscosity_switch: ViscositySwitch,
+    /// A hole drilled into the front face along the axis (m; 0: none): the particles whose
+    /// centres lie inside it are left out, and the nose starts at its bottom by default.
+    pub lead_hole_depth: f64,
+    pub lead_hole_diameter: f64,
     /// HJC constants: §3.1 rule from `fc` and `density`, then any explicit overrides.
     pub concrete: Hjc,
 }
@@ -881,6 +886,8 @@ struct RawTarget {
     viscosity_alpha: Option<f64>,
     viscosity_beta: Option<f64>,
     viscosity_switch: Option<String>,
+    lead_hole_depth: Option<f64>,
+    lead_hole_diameter: Option<f64>,
     concrete: Option<RawHjc>,
 }
 
@@ -1151,20 +1158,23 @@ fn resolve(raw: RawScene, origin: &Path) -> Result<Scene, SceneError> {
         }
         (Some(t), None) => {
             let t = resolve_target(&c, &t, &projectile)?;
-            let nose_z = 0.25 * t.spacing;
+            let nose_z = 0.25 * t.spacing - t.lead_hole_depth;
             (Some(t), None, nose_z)
         }
         (None, Some(w)) => (None, Some(WallSpec { z: w.z }), w.z + WALL_GAP),
     };
+    let hole_depth = target.as_ref().map_or(0.0, |t| t.lead_hole_depth);
     projectile.nose_z = match (raw.projectile.nose_z, &wall) {
         (None, _) => default_nose_z,
         (Some(z), None) => c.require(
-            (0.0..=MAX_START_GAP).contains(&z),
+            (-hole_depth..=MAX_START_GAP).contains(&z),
             "projectile.nose_z",
             z,
             &format!(
-                "must be in [0, {MAX_START_GAP}] (m): the target's front face is z = 0, the nose \
-                 may not start inside it, and f32 positions lose resolution far from it"
+                "must be in [−target.lead_hole_depth, {MAX_START_GAP}] = [{}, {MAX_START_GAP}] \
+                 (m): the target's front face is z = 0, the nose may not start inside the \
+                 concrete (only down a lead hole), and f32 positions lose resolution far from it",
+                num(if hole_depth > 0.0 { -hole_depth } else { 0.0 })
             ),
         )?,
         (Some(z), Some(w)) => c.require(
@@ -1587,6 +1597,42 @@ fn resolve_target(
         "must be in [5e6, 200e6] (Pa): the f_c rule of physics.md §3.1 is for normal to \
          high-strength concrete",
     )?;
+    let lead_hole_depth = c.non_negative(
+        "target.lead_hole_depth",
+        t.lead_hole_depth.unwrap_or(0.0),
+        "m",
+    )?;
+    c.require(
+        lead_hole_depth <= thickness - 4.0 * spacing,
+        "target.lead_hole_depth",
+        lead_hole_depth,
+        &format!(
+            "must be ≤ target.thickness − 4·target.spacing = {} m (at least 4 particles below \
+             the hole)",
+            approx(thickness - 4.0 * spacing)
+        ),
+    )?;
+    let lead_hole_diameter = c.positive(
+        "target.lead_hole_diameter",
+        t.lead_hole_diameter.unwrap_or(projectile.diameter),
+        "m",
+    )?;
+    // Checked only where there is a hole (an edge impact on a target narrower than the
+    // projectile is a valid scene).
+    c.require(
+        lead_hole_depth == 0.0
+            || (lead_hole_diameter >= projectile.diameter
+                && lead_hole_diameter <= 2.0 * (radius - 4.0 * spacing)),
+        "target.lead_hole_diameter",
+        lead_hole_diameter,
+        &format!(
+            "must be in [projectile.diameter, 2·(target.radius − 4·target.spacing)] = [{}, {}] \
+             m: the projectile must fit in the hole, and the wall round it must hold 4 \
+             particles",
+            approx(projectile.diameter),
+            approx(2.0 * (radius - 4.0 * spacing))
+        ),
+    )?;
     Ok(TargetSpec {
         radius,
         thickness,
@@ -1598,6 +1644,8 @@ fn resolve_target(
         viscosity_alpha,
         viscosity_beta,
         viscosity_switch,
+        lead_hole_depth,
+        lead_hole_diameter,
         concrete: resolve_hjc(c, fc, density, t.concrete.as_ref())?,
     })
 }
@@ -1784,6 +1832,8 @@ impl Scene {
                 t.viscosity_switch.name(),
                 "\"none\" | \"balsara\"",
             );
+            out.line("target.lead_hole_depth", num(t.lead_hole_depth), "m");
+            out.line("target.lead_hole_diameter", num(t.lead_hole_diameter), "m");
             let h = &t.concrete;
             for (field, value, unit) in [
                 ("shear_modulus", h.shear_modulus, "Pa"),
@@ -1915,6 +1965,20 @@ mod tests {
         assert!((f64::from(steel.strength.b) / (0.6439 * a) - 1.0).abs() < 1e-6);
         assert_eq!(steel.strength.n, 0.26);
         assert!(steel.damage.is_some());
+    }
+
+    #[test]
+    fn lead_hole_moves_the_default_nose_to_its_bottom() {
+        let s = smoke(&["target.lead_hole_depth=0.02"]).unwrap();
+        let t = s.target.as_ref().unwrap();
+        assert_eq!((t.lead_hole_depth, t.lead_hole_diameter), (0.02, 0.02));
+        assert_eq!(s.projectile.nose_z, 0.25 * t.spacing - 0.02);
+        let s = smoke(&[
+            "target.lead_hole_depth=0.02",
+            "target.lead_hole_diameter=0.03",
+        ])
+        .unwrap();
+        assert_eq!(s.target.as_ref().unwrap().lead_hole_diameter, 0.03);
     }
 
     #[test]

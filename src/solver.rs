@@ -126,13 +126,14 @@ impl Simulation {
         let fem = FemParams::new(&spec.material);
         let (particles, sph) = match &scene.target {
             Some(t) => {
-                let lattice = mesh::target::lattice(
+                let mut lattice = mesh::target::lattice(
                     t.radius,
                     t.thickness,
                     t.spacing,
                     t.concrete.density as f64,
                 )
                 .map_err(|e| RunError::Setup(e.to_string()))?;
+                mesh::target::drill(&mut lattice, t.lead_hole_depth, t.lead_hole_diameter);
                 (
                     Particles::from_lattice(&lattice, t),
                     Some(SphParams::new(t)),

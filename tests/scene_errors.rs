@@ -302,6 +302,52 @@ fn bad_choices_and_conflicting_keys() {
 }
 
 #[test]
+fn lead_hole_must_fit_target_and_projectile() {
+    // smoke: thickness 0.05 m, spacing 2.5 mm, radius 0.04 m, projectile diameter 0.02 m.
+    refused(
+        &smoke_text(),
+        &["target.lead_hole_depth=0.045"],
+        &["target.lead_hole_depth", "0.04"],
+    );
+    refused(
+        &smoke_text(),
+        &["target.lead_hole_depth=-0.01"],
+        &["target.lead_hole_depth"],
+    );
+    refused(
+        &smoke_text(),
+        &[
+            "target.lead_hole_depth=0.02",
+            "target.lead_hole_diameter=0.015",
+        ],
+        &["target.lead_hole_diameter", "projectile.diameter"],
+    );
+    refused(
+        &smoke_text(),
+        &[
+            "target.lead_hole_depth=0.02",
+            "target.lead_hole_diameter=0.07",
+        ],
+        &["target.lead_hole_diameter", "0.06"],
+    );
+    // The nose may start down the hole, not below its bottom.
+    refused(
+        &smoke_text(),
+        &["target.lead_hole_depth=0.02", "projectile.nose_z=-0.021"],
+        &["projectile.nose_z", "lead_hole_depth"],
+    );
+    parse_str(
+        &smoke_text(),
+        Path::new(ORIGIN),
+        &[
+            "target.lead_hole_depth=0.02".into(),
+            "projectile.nose_z=-0.02".into(),
+        ],
+    )
+    .unwrap();
+}
+
+#[test]
 fn copper_damage_needs_constants() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-copper-190.toml");
     let err = load(&path, &["projectile.material.damage=true".into()]).unwrap_err();

@@ -110,6 +110,46 @@ fn lambda_zero_projectile_is_rigid() {
         .any(|p| p.starts_with("fem_stress")));
 }
 
+/// A lead hole: the particles inside it are left out, the nose starts at its bottom, and the
+/// projectile meets the concrete there (no earlier); the depth is still measured from z = 0.
+#[test]
+fn projectile_starts_down_a_lead_hole() {
+    let hole = 0.02;
+    let whole = Simulation::new(&scene::load(&case("smoke.toml"), &[]).unwrap()).unwrap();
+    let scene = scene::load(
+        &case("smoke.toml"),
+        &[format!("target.lead_hole_depth={hole}")],
+    )
+    .unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    let radius = 0.5 * scene.projectile.diameter as f32;
+    let p = &sim.particles;
+    assert!((0..p.len()).all(|i| p.r[i] >= radius || p.z[i] <= -hole as f32));
+    let removed = (0..whole.particles.len())
+        .filter(|&i| whole.particles.r[i] < radius && whole.particles.z[i] > -hole as f32)
+        .count();
+    assert!(removed > 0);
+    assert_eq!(p.len(), whole.particles.len() - removed);
+    let spacing = scene.target.as_ref().unwrap().spacing;
+    assert!((sim.depth() - (hole - 0.25 * spacing)).abs() < 1e-6);
+    let mut first_hit_depth = None;
+    for _ in 0..300 {
+        sim.step().unwrap();
+        if first_hit_depth.is_none() && sim.last_hits > 0 {
+            first_hit_depth = Some(sim.depth());
+        }
+    }
+    let first = first_hit_depth.expect("the nose meets the concrete at the bottom");
+    // The first row left is at hole + Δ/2 (no hit before the nose passes the hole's bottom);
+    // the sharp tip must pass it by about 1.4 mm more before a particle centre lies inside it.
+    assert!(first > hole && first < hole + 2.0 * spacing, "{first}");
+    assert!(
+        sim.projectile_velocity() < scene.projectile.velocity,
+        "slowed down"
+    );
+    assert!(sim.energy_error().abs() < 0.01, "{}", sim.energy_error());
+}
+
 /// Depth and extent follow the body, not its debris: a nose node whose elements have all failed
 /// and which has run 0.3 m ahead (as a light nose node did in a 800 m/s shot) moves neither;
 /// the same node still held by one element that has not failed moves both.

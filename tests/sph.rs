@@ -21,6 +21,8 @@ fn spec(fix: bool) -> TargetSpec {
         viscosity_alpha: 1.0,
         viscosity_beta: 2.0,
         viscosity_switch: ViscositySwitch::None,
+        lead_hole_depth: 0.0,
+        lead_hole_diameter: 0.02,
         concrete: Hjc::from_fc(35e6, 2370.0),
     }
 }

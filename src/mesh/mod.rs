@@ -38,7 +38,7 @@ pub struct MasterSegment {
 }
 
 /// SPH target lattice.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct TargetLattice {
     pub r: Vec<f32>,
     pub z: Vec<f32>,

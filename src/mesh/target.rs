@@ -66,6 +66,27 @@ pub fn lattice(
     Ok(t)
 }
 
+/// Drills a lead hole into the front face along the axis: leaves out every particle whose centre
+/// lies at r < diameter/2 and z > −depth. `depth = 0` leaves the lattice as it is. Returns how
+/// many particles were left out.
+pub fn drill(t: &mut TargetLattice, depth: f64, diameter: f64) -> usize {
+    let keep: Vec<bool> =
+        t.r.iter()
+            .zip(&t.z)
+            .map(|(&r, &z)| !(f64::from(r) < 0.5 * diameter && f64::from(z) > -depth))
+            .collect();
+    fn retain<T>(v: &mut Vec<T>, keep: &[bool]) {
+        let mut k = keep.iter();
+        v.retain(|_| *k.next().unwrap());
+    }
+    retain(&mut t.r, &keep);
+    retain(&mut t.z, &keep);
+    retain(&mut t.mass, &keep);
+    retain(&mut t.rear, &keep);
+    retain(&mut t.lateral, &keep);
+    keep.iter().filter(|&&k| !k).count()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -107,6 +128,33 @@ mod tests {
         let total: f64 = t.mass.iter().map(|&m| m as f64).sum();
         let exact = rho * PI * radius * radius * thickness;
         assert!(((total - exact) / exact).abs() < 0.01, "{total} vs {exact}");
+    }
+
+    #[test]
+    fn drill_leaves_out_the_hole_only() {
+        let d = 0.01;
+        let mut t = lattice(0.1, 0.1, d, 2370.0).unwrap();
+        let whole = t.clone();
+        assert_eq!(drill(&mut t, 0.0, 0.05), 0);
+        assert_eq!(t, whole);
+        // Columns at r = 5, 15 mm (< 20 mm) in rows at z = −5 … −35 mm (> −40 mm): 2 × 4.
+        assert_eq!(drill(&mut t, 0.04, 0.04), 8);
+        assert_eq!(t.r.len(), 100 - 8);
+        for p in 0..t.r.len() {
+            assert!(
+                t.r[p] > 0.02 || t.z[p] < -0.04,
+                "particle {p} left in the hole"
+            );
+            assert_eq!(t.mass[p], whole.mass[whole_index(&whole, t.r[p], t.z[p])]);
+        }
+        assert_eq!(t.rear.iter().filter(|&&f| f).count(), 10);
+        assert_eq!(t.lateral.iter().filter(|&&f| f).count(), 10);
+    }
+
+    fn whole_index(t: &TargetLattice, r: f32, z: f32) -> usize {
+        (0..t.r.len())
+            .find(|&i| t.r[i] == r && t.z[i] == z)
+            .unwrap()
     }
 
     #[test]
