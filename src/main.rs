@@ -139,9 +139,9 @@ enum Command {
         /// Folder of the measurements (taylor.csv, forrestal1994.csv).
         #[arg(long, default_value = "../shared/data")]
         data: PathBuf,
-        /// Take each completed run already in OUT whose resolved scene (its scene.toml) and
-        /// backend are the ones asked for, instead of running it again: an interrupted
-        /// validation goes on where it stopped. Use it only with the binary that made them.
+        /// Take each completed run already in OUT whose resolved scene (its scene.toml),
+        /// backend and solver build (this very executable) are the ones asked for, instead of
+        /// running it again: an interrupted validation goes on where it stopped.
         #[arg(long)]
         resume: bool,
     },

@@ -797,6 +797,7 @@ impl Simulation {
             stop_reason: stop_reason.to_string(),
             backend: self.backend.into(),
             adapter: self.adapter.clone(),
+            solver_build: crate::output::summary::build_id().into(),
             depth_m: self.depth(),
             projectile_velocity_m_s: self.projectile_velocity(),
             max_damage: self.max_damage(),

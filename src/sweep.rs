@@ -5,7 +5,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::output::summary::Summary;
+use crate::output::summary::{same_build, Summary};
 use crate::scene::{self, Backend, Scene, SceneError};
 use crate::solver::{self, RunError, RunOptions};
 
@@ -258,7 +258,8 @@ pub fn run_set(
 /// process, for `penetrate validate --resume`: its `scene.toml` must list the same resolved
 /// values (comment and blank lines aside), its `summary.json` must say `completed` on the same
 /// backend (a GPU run: on the adapter named `gpu_adapter`, as its summary names it), and with
-/// `vtk` its frames must be there. It cannot tell whether the solver changed since.
+/// `vtk` its frames must be there, and it must name this very build of the solver
+/// (`solver_build`, [`build_id`](crate::output::summary::build_id)).
 pub fn completed_run(
     dir: &Path,
     scene: &Scene,
@@ -283,8 +284,11 @@ pub fn completed_run(
     let json = std::fs::read_to_string(dir.join("summary.json")).ok()?;
     let summary: Summary = serde_json::from_str(&json).ok()?;
     let same_adapter = backend != Backend::Gpu || gpu_adapter == Some(summary.adapter.as_str());
-    (summary.status == "completed" && summary.backend == backend.name() && same_adapter)
-        .then_some(summary)
+    (summary.status == "completed"
+        && summary.backend == backend.name()
+        && same_adapter
+        && same_build(&summary.solver_build))
+    .then_some(summary)
 }
 
 /// Default output directory of a sweep: `runs/<case file stem>-<key's last part>`.

@@ -190,8 +190,8 @@ fn resumed(o: &Output) -> usize {
 }
 
 /// `--resume` takes the completed runs an earlier process left in the folder when their
-/// resolved scene matches, and runs again the one whose `scene.toml` says otherwise; without
-/// it every run is made afresh.
+/// resolved scene matches, and runs again the one whose `scene.toml` says otherwise or whose
+/// `summary.json` names another build of the solver; without it every run is made afresh.
 #[test]
 fn resume_takes_matching_completed_runs_only() {
     let out = scratch("validate-resume");
@@ -236,6 +236,18 @@ fn resume_takes_matching_completed_runs_only() {
     assert_eq!(strip_wall(csv_rows(&csv)), strip_wall(rows));
     // The rerun wrote its scene back.
     assert_eq!(std::fs::read_to_string(&changed).unwrap(), text);
+
+    // A run another build of the solver made is made again.
+    let (summary, _) = edit_first_taylor_run(
+        &out,
+        "summary.json",
+        "\"solver_build\": \"penetrate ",
+        "\"solver_build\": \"another penetrate ",
+    );
+    let third = penetrate(&[&base[..], &["--resume"]].concat());
+    assert_eq!(resumed(&third), 5, "{}", stderr(&third));
+    let rerun = std::fs::read_to_string(&summary).unwrap();
+    assert!(rerun.contains("\"solver_build\": \"penetrate "), "{rerun}");
 
     assert_eq!(resumed(&penetrate(&base)), 0);
     let _ = std::fs::remove_dir_all(&out);

@@ -1,6 +1,34 @@
 //! `summary.json`: what a run produced and how it ended.
 
+use std::sync::OnceLock;
+
 use serde::{Deserialize, Serialize};
+
+/// `penetrate <version> <fingerprint>`: the fingerprint is the 64-bit FNV-1a hash of the running
+/// executable's bytes, so any rebuild that changes the binary changes it; `unknown` where the
+/// executable cannot be read (such a build never matches, see [`same_build`]).
+pub fn build_id() -> &'static str {
+    static ID: OnceLock<String> = OnceLock::new();
+    ID.get_or_init(|| {
+        let fingerprint = std::env::current_exe().and_then(std::fs::read).map_or_else(
+            |_| "unknown".to_string(),
+            |bytes| format!("{:016x}", fnv1a(&bytes)),
+        );
+        format!("penetrate {} {fingerprint}", env!("CARGO_PKG_VERSION"))
+    })
+}
+
+/// Whether a run recorded as made by `recorded` came from this very build (an unreadable
+/// executable matches nothing).
+pub fn same_build(recorded: &str) -> bool {
+    recorded == build_id() && !recorded.ends_with(" unknown")
+}
+
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Summary {
@@ -11,6 +39,11 @@ pub struct Summary {
     pub stop_reason: String,
     pub backend: String,
     pub adapter: String,
+    /// Which build of the solver made the run: `penetrate <version> <fingerprint>`
+    /// ([`build_id`]). `--resume` takes a run only from the same build. Empty in summaries
+    /// written before it existed.
+    #[serde(default)]
+    pub solver_build: String,
     pub depth_m: f64,
     pub projectile_velocity_m_s: f64,
     pub max_damage: f64,
