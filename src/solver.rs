@@ -110,6 +110,8 @@ pub struct Simulation {
     gpu: Option<Box<GpuStep>>,
     /// The account when the GPU took over (its accumulators add to it).
     gpu_base: Account,
+    /// Elements whose centroid started behind the nose (in the shank): a shell's wall.
+    shank: Vec<u32>,
     /// "cpu" or "gpu", and the adapter's name.
     pub backend: &'static str,
     pub adapter: String,
@@ -141,6 +143,19 @@ impl Simulation {
             }
             None => (Particles::default(), None),
         };
+        let nose_length = match spec.shape {
+            crate::scene::ProjectileShape::Ogive { crh } => {
+                crate::scene::ogive_nose_length(spec.diameter, crh)
+            }
+            crate::scene::ProjectileShape::Cylinder => 0.0,
+        };
+        let shank_from = (spec.nose_z + nose_length) as f32;
+        let shank = (0..pmesh.elements.len() as u32)
+            .filter(|&e| {
+                let n = pmesh.elements[e as usize];
+                n.iter().map(|&i| pmesh.node_z[i as usize]).sum::<f32>() / 3.0 > shank_from
+            })
+            .collect();
         let r_max = pmesh.node_r.iter().copied().fold(0.0f32, f32::max);
         let k = scene.contact.slave_radius_factor as f32;
         let slaves = (0..particles.len() as u32)
@@ -185,6 +200,7 @@ impl Simulation {
             escape: (20.0 * extent) as f32,
             gpu: None,
             gpu_base: Account::default(),
+            shank,
             backend: "cpu",
             adapter: "none (CPU reference path)".into(),
         };
@@ -598,6 +614,16 @@ impl Simulation {
             .fold(0.0f32, f32::max) as f64
     }
 
+    /// Largest damage over the elements that started behind the nose (the shank; for a shell,
+    /// its wall): the nose's surface elements, which fail at any speed here, left out.
+    pub fn max_damage_shank(&self) -> f64 {
+        let d = &self.projectile.elements.damage;
+        self.shank
+            .iter()
+            .map(|&e| d[e as usize])
+            .fold(0.0f32, f32::max) as f64
+    }
+
     /// Σ damage × r–z area over the projectile's elements in the current configuration (m²):
     /// the failed part of its section, partial damage counted by its share (the shell study's
     /// damaged area, paper Fig. 9).
@@ -801,6 +827,7 @@ impl Simulation {
             depth_m: self.depth(),
             projectile_velocity_m_s: self.projectile_velocity(),
             max_damage: self.max_damage(),
+            max_damage_shank: self.max_damage_shank(),
             max_plastic_strain: self.max_plastic_strain(),
             final_length_m: length,
             max_radius_m: radius,

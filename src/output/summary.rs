@@ -47,6 +47,10 @@ pub struct Summary {
     pub depth_m: f64,
     pub projectile_velocity_m_s: f64,
     pub max_damage: f64,
+    /// Largest damage over the elements that started behind the nose (the shank; a shell's
+    /// wall). 0 in summaries written before it existed.
+    #[serde(default)]
+    pub max_damage_shank: f64,
     pub max_plastic_strain: f64,
     pub final_length_m: f64,
     pub max_radius_m: f64,
