@@ -150,6 +150,27 @@ fn projectile_starts_down_a_lead_hole() {
     assert!(sim.energy_error().abs() < 0.01, "{}", sim.energy_error());
 }
 
+/// `max_damage_shank` reads the elements that started behind the nose only: a failed nose
+/// element leaves it at 0, a damaged shank element sets it.
+#[test]
+fn shank_damage_leaves_the_nose_out() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    let spec = &scene.projectile;
+    let scene::ProjectileShape::Ogive { crh } = spec.shape else {
+        panic!("the smoke projectile is an ogive")
+    };
+    let join = (spec.nose_z + scene::ogive_nose_length(spec.diameter, crh)) as f32;
+    let (n, e) = (&sim.projectile.nodes, &sim.projectile.elements);
+    let centroid = |k: usize| e.nodes[k].iter().map(|&i| n.z[i as usize]).sum::<f32>() / 3.0;
+    let nose = (0..e.len()).find(|&k| centroid(k) < join).unwrap();
+    let shank = (0..e.len()).find(|&k| centroid(k) > join).unwrap();
+    sim.projectile.elements.damage[nose] = 1.0;
+    assert_eq!((sim.max_damage(), sim.max_damage_shank()), (1.0, 0.0));
+    sim.projectile.elements.damage[shank] = 0.5;
+    assert_eq!((sim.max_damage(), sim.max_damage_shank()), (1.0, 0.5));
+}
+
 /// Depth and extent follow the body, not its debris: a nose node whose elements have all failed
 /// and which has run 0.3 m ahead (as a light nose node did in a 800 m/s shot) moves neither;
 /// the same node still held by one element that has not failed moves both.
