@@ -328,7 +328,7 @@ def wall_stresses(z):
 
 
 def expand_cavity(mat, speed, a0=1.0e-3, a_end=25.0, dr0_frac=1.0 / 20.0, growth=1.02,
-                  merge_frac=0.01, cfl=0.5, wall_ramp=0.0):
+                  merge_frac=0.01, cfl=0.5):
     """Expand a cavity of radius a0 at wall speed `speed` until a = a_end * a0.
     Returns a dict with the history (a/a0, zone and wall stresses) and the final state."""
     t_end = (a_end - 1.0) * a0 / speed
@@ -362,8 +362,7 @@ def expand_cavity(mat, speed, a0=1.0e-3, a_end=25.0, dr0_frac=1.0 / 20.0, growth
         node_mass = 0.5 * (z.mass[1:] + z.mass[:-1])
         # Leapfrog: u^{n+1/2} = u^{n-1/2} + (F/m) (dt^{n-1/2} + dt^{n+1/2})/2.
         z.u[1:-1] += force / node_mass * 0.5 * (dt_prev + dt)
-        ramp = 1.0 if wall_ramp <= 0.0 else min(1.0, (t + 0.5 * dt) / wall_ramp)
-        z.u[0] = speed * ramp       # prescribed cavity wall
+        z.u[0] = speed              # prescribed cavity wall
         z.u[-1] = 0.0               # far boundary fixed (no wave reaches it)
         r_new = r + dt * z.u
         r_mid = 0.5 * (r + r_new)
