@@ -617,10 +617,19 @@ impl Simulation {
     /// Largest damage over the elements that started behind the nose (the shank; for a shell,
     /// its wall): the nose's surface elements, which fail at any speed here, left out.
     pub fn max_damage_shank(&self) -> f64 {
-        let d = &self.projectile.elements.damage;
+        self.shank_max(&self.projectile.elements.damage)
+    }
+
+    /// Largest plastic strain over the same elements: the body's deformation, the failed nose
+    /// elements' strain left out.
+    pub fn max_plastic_strain_shank(&self) -> f64 {
+        self.shank_max(&self.projectile.elements.eps_p)
+    }
+
+    fn shank_max(&self, values: &[f32]) -> f64 {
         self.shank
             .iter()
-            .map(|&e| d[e as usize])
+            .map(|&e| values[e as usize])
             .fold(0.0f32, f32::max) as f64
     }
 
@@ -829,6 +838,7 @@ impl Simulation {
             max_damage: self.max_damage(),
             max_damage_shank: self.max_damage_shank(),
             max_plastic_strain: self.max_plastic_strain(),
+            max_plastic_strain_shank: self.max_plastic_strain_shank(),
             final_length_m: length,
             max_radius_m: radius,
             time_s: self.time,

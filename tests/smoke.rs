@@ -150,8 +150,9 @@ fn projectile_starts_down_a_lead_hole() {
     assert!(sim.energy_error().abs() < 0.01, "{}", sim.energy_error());
 }
 
-/// `max_damage_shank` reads the elements that started behind the nose only: a failed nose
-/// element leaves it at 0, a damaged shank element sets it.
+/// `max_damage_shank` and `max_plastic_strain_shank` read the elements that started behind the
+/// nose only: a failed, strained nose element leaves them at 0, a damaged, strained shank
+/// element sets them.
 #[test]
 fn shank_damage_leaves_the_nose_out() {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
@@ -166,9 +167,19 @@ fn shank_damage_leaves_the_nose_out() {
     let nose = (0..e.len()).find(|&k| centroid(k) < join).unwrap();
     let shank = (0..e.len()).find(|&k| centroid(k) > join).unwrap();
     sim.projectile.elements.damage[nose] = 1.0;
+    sim.projectile.elements.eps_p[nose] = 2.0;
     assert_eq!((sim.max_damage(), sim.max_damage_shank()), (1.0, 0.0));
+    assert_eq!(
+        (sim.max_plastic_strain(), sim.max_plastic_strain_shank()),
+        (2.0, 0.0)
+    );
     sim.projectile.elements.damage[shank] = 0.5;
+    sim.projectile.elements.eps_p[shank] = 0.25;
     assert_eq!((sim.max_damage(), sim.max_damage_shank()), (1.0, 0.5));
+    assert_eq!(
+        (sim.max_plastic_strain(), sim.max_plastic_strain_shank()),
+        (2.0, 0.25)
+    );
 }
 
 /// Depth and extent follow the body, not its debris: a nose node whose elements have all failed

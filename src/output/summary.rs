@@ -52,6 +52,10 @@ pub struct Summary {
     #[serde(default)]
     pub max_damage_shank: f64,
     pub max_plastic_strain: f64,
+    /// Largest plastic strain over the elements that started behind the nose. 0 in summaries
+    /// written before it existed.
+    #[serde(default)]
+    pub max_plastic_strain_shank: f64,
     pub final_length_m: f64,
     pub max_radius_m: f64,
     pub time_s: f64,

@@ -218,9 +218,9 @@ impl Settings {
                 taylor_factors: [5.0, 4.0, 3.0],
                 convergence_factors: [1.0, 0.85, 0.7, 0.55],
                 deformation: speeds("300:800:250")?,
-                // The wall fails between 1400 and 1700 m/s here: one bisection step.
-                shell_speeds: speeds("300:1700:350")?,
-                shell_tolerance: 200.0,
+                // Damage appears in the wall between 200 and 250 m/s here: one bisection step.
+                shell_speeds: speeds("100:500:100")?,
+                shell_tolerance: 60.0,
             }
         } else {
             Settings {
