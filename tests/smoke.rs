@@ -361,3 +361,27 @@ fn stability_suite_runs_and_closes_the_energy() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The energy guard: a run whose energy account comes apart is stopped as unstable, with the
+/// step, the time and the fastest particle named; an account that closes passes, and one that
+/// is not a number fails.
+#[test]
+fn a_run_whose_energy_account_comes_apart_is_unstable() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    for _ in 0..20 {
+        sim.step().unwrap();
+    }
+    assert!(sim.check_energy().is_ok(), "{}", sim.energy_error());
+    // One particle kicked to a speed that carries about a tenth of the impact energy.
+    let p = &mut sim.particles;
+    let i = p.len() / 2;
+    let e0 = 0.5 * (scene.projectile.velocity as f64).powi(2) * sim.projectile.total_mass;
+    p.vz[i] = (2.0 * 0.1 * e0 / p.mass[i] as f64).sqrt() as f32;
+    let err = sim.check_energy().unwrap_err().to_string();
+    assert!(err.contains("energy balance lost"), "{err}");
+    assert!(err.contains(&format!("particle {i} ")), "{err}");
+    assert!(err.contains("step 20"), "{err}");
+    sim.particles.vz[i] = f32::NAN;
+    assert!(sim.check_energy().is_err());
+}
