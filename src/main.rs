@@ -376,11 +376,16 @@ fn main() -> ExitCode {
             match solver::run(&scene, &opts) {
                 Ok(outcome) => {
                     let s = &outcome.summary;
+                    // An unstable run has no stop reason: its status says it all.
+                    let reason = if s.stop_reason.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" ({})", s.stop_reason)
+                    };
                     println!(
-                        "{}: {} ({}) after {} steps, t = {:.1} µs, {:.1} s wall on {}",
+                        "{}: {}{reason} after {} steps, t = {:.1} µs, {:.1} s wall on {}",
                         s.scene,
                         s.status,
-                        s.stop_reason,
                         s.steps,
                         s.time_s * 1e6,
                         s.wall_s,

@@ -230,7 +230,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
         );
         damage_chart = damage_chart.series(
             "critical velocity",
-            vec![(b.mid(), 0.0), (b.mid(), top(&damages).max(FAILED))],
+            vec![(b.mid(), 0.0), (b.mid(), top(&damages))],
             Mark::Line,
         );
     }
