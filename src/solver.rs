@@ -1035,8 +1035,6 @@ pub struct RunOutcome {
     pub ok: bool,
 }
 
-/// Run a scene to its end, writing the outputs as it goes. An unstable run stops, says what and
-/// where in `status`, and keeps what it had written.
 /// Share of the impact energy by which the energy account may be off before a run is stopped
 /// as unstable. Every run of the validation and of the stability suite closes it to 0.7 % or
 /// better (README, "Stability"), so this catches a blow-up, not an inaccuracy.
@@ -1052,6 +1050,8 @@ struct Fastest {
     speed: f32,
 }
 
+/// Run a scene to its end, writing the outputs as it goes. An unstable run stops, says what and
+/// where in `status`, and keeps what it had written.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
     std::fs::create_dir_all(&opts.out).map_err(io)?;
