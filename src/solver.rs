@@ -752,11 +752,12 @@ impl Simulation {
     /// says when and names the fastest particle or node. A scene with nothing moving at the
     /// start has no impact energy to measure against and is not checked.
     pub fn check_energy(&self) -> Result<(), RunError> {
-        if self.account.initial_kinetic <= 0.0 {
-            return Ok(());
-        }
-        let error = self.energy_error();
-        if error.abs() <= ENERGY_GUARD {
+        self.energy_guard(self.energy_error())
+    }
+
+    /// [`Self::check_energy`] on an energy error already computed (a history row's).
+    fn energy_guard(&self, error: f64) -> Result<(), RunError> {
+        if self.account.initial_kinetic <= 0.0 || error.abs() <= ENERGY_GUARD {
             return Ok(());
         }
         let f = self.fastest();
@@ -1105,10 +1106,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         }
         if sim.time >= next_history {
             sim.check_slaves_inside();
-            history.write(&sim.history_row()).map_err(io)?;
+            let row = sim.history_row();
+            history.write(&row).map_err(io)?;
             next_history += scene.run.history_interval;
             progress.update(sim.time, sim.step, sim.depth(), sim.projectile_velocity());
-            if let Err(e) = sim.check_energy() {
+            if let Err(e) = sim.energy_guard(row.energy_error) {
                 break (e.to_string(), String::new(), false);
             }
         }

@@ -166,20 +166,19 @@ fn shank_damage_leaves_the_nose_out() {
     let centroid = |k: usize| e.nodes[k].iter().map(|&i| n.z[i as usize]).sum::<f32>() / 3.0;
     let nose = (0..e.len()).find(|&k| centroid(k) < join).unwrap();
     let shank = (0..e.len()).find(|&k| centroid(k) > join).unwrap();
+    // (whole projectile, behind the nose) for damage, then plastic strain.
+    let maxima = |sim: &Simulation| {
+        [
+            (sim.max_damage(), sim.max_damage_shank()),
+            (sim.max_plastic_strain(), sim.max_plastic_strain_shank()),
+        ]
+    };
     sim.projectile.elements.damage[nose] = 1.0;
     sim.projectile.elements.eps_p[nose] = 2.0;
-    assert_eq!((sim.max_damage(), sim.max_damage_shank()), (1.0, 0.0));
-    assert_eq!(
-        (sim.max_plastic_strain(), sim.max_plastic_strain_shank()),
-        (2.0, 0.0)
-    );
+    assert_eq!(maxima(&sim), [(1.0, 0.0), (2.0, 0.0)]);
     sim.projectile.elements.damage[shank] = 0.5;
     sim.projectile.elements.eps_p[shank] = 0.25;
-    assert_eq!((sim.max_damage(), sim.max_damage_shank()), (1.0, 0.5));
-    assert_eq!(
-        (sim.max_plastic_strain(), sim.max_plastic_strain_shank()),
-        (2.0, 0.25)
-    );
+    assert_eq!(maxima(&sim), [(1.0, 0.5), (2.0, 0.25)]);
 }
 
 /// Depth and extent follow the body, not its debris: a nose node whose elements have all failed
