@@ -105,6 +105,16 @@ pub enum ProjectileShape {
     Cylinder,
 }
 
+impl ProjectileShape {
+    /// Length of the nose ahead of the shank for a body of this `diameter` (0 for a cylinder).
+    pub fn nose_length(self, diameter: f64) -> f64 {
+        match self {
+            ProjectileShape::Ogive { crh } => ogive_nose_length(diameter, crh),
+            ProjectileShape::Cylinder => 0.0,
+        }
+    }
+}
+
 /// A coaxial cavity in the shank with an inert filler.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CavitySpec {
@@ -1306,10 +1316,7 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
             ProjectileShape::Cylinder
         }
     };
-    let nose_length = match shape {
-        ProjectileShape::Ogive { crh } => ogive_nose_length(diameter, crh),
-        ProjectileShape::Cylinder => 0.0,
-    };
+    let nose_length = shape.nose_length(diameter);
     c.require(
         length > nose_length,
         "projectile.length",

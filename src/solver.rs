@@ -143,13 +143,7 @@ impl Simulation {
             }
             None => (Particles::default(), None),
         };
-        let nose_length = match spec.shape {
-            crate::scene::ProjectileShape::Ogive { crh } => {
-                crate::scene::ogive_nose_length(spec.diameter, crh)
-            }
-            crate::scene::ProjectileShape::Cylinder => 0.0,
-        };
-        let shank_from = (spec.nose_z + nose_length) as f32;
+        let shank_from = (spec.nose_z + spec.shape.nose_length(spec.diameter)) as f32;
         let shank = (0..pmesh.elements.len() as u32)
             .filter(|&e| {
                 let n = pmesh.elements[e as usize];
