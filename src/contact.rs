@@ -19,6 +19,13 @@
 //! together: z-momentum is conserved to round-off, the relative normal velocity after the hit is
 //! zero, and λ = 0 moves the projectile rigidly (zero strain). Where n is axial (n_z = ±1) this
 //! is the planar formula of physics.md to the letter.
+//!
+//! The positions were advanced with the velocities before the correction, so each node also
+//! moves by its velocity change times the step, and the slave goes to its foot on the moved
+//! segment: the step ends as if the impulse had come before the drift (the predictor-corrector
+//! form of a kinematic contact). Without this, a node in lasting contact drifted a·Δt² per step
+//! further than the velocity that its elements' strain rate saw, and the projectile's plastic
+//! strain and damage grew in proportion to the step (README, "Time step").
 
 use crate::mesh::MasterSegment;
 
@@ -36,12 +43,14 @@ pub struct ContactBodies<'a> {
     pub slave_vr: &'a mut [f32],
     pub slave_vz: &'a mut [f32],
     pub slave_mass: &'a [f32],
-    pub node_r: &'a [f32],
-    pub node_z: &'a [f32],
+    pub node_r: &'a mut [f32],
+    pub node_z: &'a mut [f32],
     pub node_vr: &'a mut [f32],
     pub node_vz: &'a mut [f32],
     pub node_mass: &'a [f32],
     pub node_on_axis: &'a [u32],
+    /// The step by which the positions were just advanced (s).
+    pub dt: f32,
 }
 
 /// What one step's corrections did.
@@ -70,7 +79,9 @@ pub fn correct(
         return stats;
     }
     let m_total = total_mass as f32;
-    // Running global shift along z: node i's velocity is (vr, vz + shift) until it is applied.
+    let dt = b.dt;
+    // Running global shift along z: node i's velocity is (vr, vz + shift) and its position
+    // (r, z + shift Δt) until it is applied.
     let mut shift = 0.0f32;
     // Projectile z-momentum with the shift included (f64: it is a sum over all nodes).
     let mut p_z: f64 = (0..b.node_mass.len())
@@ -81,7 +92,8 @@ pub fn correct(
     for hit in hits {
         let seg = masters[hit.master as usize];
         let (a, bn, s) = (seg.a as usize, seg.b as usize, hit.slave as usize);
-        let (ar, az, br, bz) = (b.node_r[a], b.node_z[a], b.node_r[bn], b.node_z[bn]);
+        let (ar, az) = (b.node_r[a], b.node_z[a] + shift * dt);
+        let (br, bz) = (b.node_r[bn], b.node_z[bn] + shift * dt);
         let (er, ez) = (br - ar, bz - az);
         let len2 = er * er + ez * ez;
         let len = len2.sqrt();
@@ -120,8 +132,10 @@ pub fn correct(
             // Axis nodes keep ṙ = 0: they take only the axial part.
             if b.node_on_axis[node] == 0 {
                 b.node_vr[node] += dv * n[0];
+                b.node_r[node] += dv * n[0] * dt;
             }
             b.node_vz[node] += dv * n[1];
+            b.node_z[node] += dv * n[1] * dt;
             let after = [b.node_vr[node], b.node_vz[node] + shift];
             d_ke += ke(m, after[0], after[1]) - ke(m, before[0], before[1]);
             p_z += m as f64 * (after[1] - before[1]) as f64;
@@ -132,10 +146,13 @@ pub fn correct(
         p_z += total_mass * g as f64;
         shift += g;
         stats.dissipated -= d_ke;
+        b.slave_r[s] = w_a * b.node_r[a] + w_b * b.node_r[bn];
+        b.slave_z[s] = w_a * b.node_z[a] + w_b * b.node_z[bn] + shift * dt;
     }
     if shift != 0.0 {
-        for v in b.node_vz.iter_mut() {
+        for (v, z) in b.node_vz.iter_mut().zip(b.node_z.iter_mut()) {
             *v += shift;
+            *z += shift * dt;
         }
     }
     stats.global_shift = shift;
@@ -191,12 +208,13 @@ mod tests {
                 slave_vr: &mut self.svr,
                 slave_vz: &mut self.svz,
                 slave_mass: &self.sm,
-                node_r: &self.nr,
-                node_z: &self.nz,
+                node_r: &mut self.nr,
+                node_z: &mut self.nz,
                 node_vr: &mut self.nvr,
                 node_vz: &mut self.nvz,
                 node_mass: &self.nm,
                 node_on_axis: &self.axis,
+                dt: DT,
             }
         }
 
@@ -229,6 +247,9 @@ mod tests {
         }
     }
 
+    /// The step the positions were advanced by, large enough that its position changes show.
+    const DT: f32 = 1.0e-6;
+
     const SEG: MasterSegment = MasterSegment {
         element: 0,
         a: 0,
@@ -236,9 +257,10 @@ mod tests {
         c: 2,
     };
 
-    /// Relative normal velocity w_A v_A + w_B v_B − v_S after the correction.
-    fn relative_normal(s: &Setup, t: f32) -> f32 {
-        let (er, ez) = (s.nr[1] - s.nr[0], s.nz[1] - s.nz[0]);
+    /// Relative normal velocity w_A v_A + w_B v_B − v_S of `s` along the normal of `at`'s
+    /// segment (the one the correction used, before it moved the nodes).
+    fn relative_normal(s: &Setup, at: &Setup, t: f32) -> f32 {
+        let (er, ez) = (at.nr[1] - at.nr[0], at.nz[1] - at.nz[0]);
         let len = er.hypot(ez);
         let n = [ez / len, -er / len];
         let dot = |vr: f32, vz: f32| vr * n[0] + vz * n[1];
@@ -246,13 +268,15 @@ mod tests {
     }
 
     /// One hit on an inclined segment: z-momentum conserved to f32 round-off, eq. (5) holds after
-    /// the global shift, the slave ends on the segment, and energy is lost, not made.
+    /// the global shift, every node moves by its velocity change times the step, the slave ends
+    /// on the moved segment, and energy is lost, not made.
     #[test]
     fn one_hit_conserves_axial_momentum_and_closes_the_gap() {
         for lambda in [0.0f32, 0.2, 0.5, 1.0] {
             let (a, b) = ([0.001, -0.008], [0.004, -0.002]);
             let t = 0.3;
             let mut s = Setup::new(a, b, t, 1e-4);
+            let before = Setup::new(a, b, t, 1e-4);
             let p0 = s.momentum();
             let e0 = s.kinetic();
             let m = s.total_mass();
@@ -275,11 +299,26 @@ mod tests {
                 p1[1]
             );
             assert!(
-                relative_normal(&s, t).abs() < 1e-3,
+                relative_normal(&s, &before, t).abs() < 1e-3,
                 "λ {lambda}: eq. (5) residual {}",
-                relative_normal(&s, t)
+                relative_normal(&s, &before, t)
             );
-            let foot = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            for i in 0..4 {
+                let moved = [s.nr[i] - before.nr[i], s.nz[i] - before.nz[i]];
+                let kick = [s.nvr[i] - before.nvr[i], s.nvz[i] - before.nvz[i]];
+                assert!(
+                    (moved[0] - kick[0] * DT).abs() < 1e-8
+                        && (moved[1] - kick[1] * DT).abs() < 1e-8,
+                    "λ {lambda}: node {i} moved {moved:?} for a kick {kick:?}"
+                );
+            }
+            if lambda > 0.0 {
+                assert!(s.nr[0] != before.nr[0], "λ {lambda}: A keeps its place");
+            }
+            let foot = [
+                s.nr[0] + t * (s.nr[1] - s.nr[0]),
+                s.nz[0] + t * (s.nz[1] - s.nz[0]),
+            ];
             assert!((s.sr[0] - foot[0]).abs() < 1e-7 && (s.sz[0] - foot[1]).abs() < 1e-7);
             assert_eq!(stats.closing, 1);
             assert!(stats.dissipated > 0.0);

@@ -319,6 +319,7 @@ impl Simulation {
                     },
                     &mut self.projectile,
                     self.scene.contact.lambda as f32,
+                    dt,
                     &mut self.account,
                 );
                 let fixes: Vec<(u32, [f32; 4])> = (0..m)
@@ -329,7 +330,7 @@ impl Simulation {
                     .map(|k| (sr[k] - data(k)[0]).hypot(sz[k] - data(k)[1]))
                     .fold(0.0f32, f32::max);
                 let n = &self.projectile.nodes;
-                g.correct(&fixes, moved, &n.vr, &n.vz);
+                g.correct(&fixes, moved, n);
             }
         }
         self.time += dt as f64;
@@ -464,6 +465,7 @@ impl Simulation {
                 },
                 &mut self.projectile,
                 self.scene.contact.lambda as f32,
+                dt,
                 &mut self.account,
             );
         }
@@ -943,6 +945,7 @@ fn correct_contact(
     slaves: Slaves<'_>,
     projectile: &mut Projectile,
     lambda: f32,
+    dt: f32,
     account: &mut Account,
 ) {
     let Projectile {
@@ -957,12 +960,13 @@ fn correct_contact(
         slave_vr: slaves.vr,
         slave_vz: slaves.vz,
         slave_mass: slaves.mass,
-        node_r: &n.r,
-        node_z: &n.z,
+        node_r: &mut n.r,
+        node_z: &mut n.z,
         node_vr: &mut n.vr,
         node_vz: &mut n.vz,
         node_mass: &n.mass,
         node_on_axis: &n.on_axis,
+        dt,
     };
     let stats = contact::correct(hits, masters, &mut bodies, lambda, *total_mass);
     account.contact_dissipated += stats.dissipated;

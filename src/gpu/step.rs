@@ -28,7 +28,7 @@ use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::SphUniform;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::Gpu;
-use crate::state::{FemParams, Particles, Projectile, SphParams};
+use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
 
 /// The neighbour lists hold the particles within the support grown by this fraction of it, so
 /// they stay complete until some particle has moved half of the growth, and are built only
@@ -590,21 +590,17 @@ impl GpuStep {
     }
 
     /// Write the host's corrections: slaves `(index, [r, z, vr, vz])`, which moved them by at
-    /// most `moved` (m), and every node velocity.
-    pub fn correct(
-        &mut self,
-        fixes: &[(u32, [f32; 4])],
-        moved: f32,
-        node_vr: &[f32],
-        node_vz: &[f32],
-    ) {
+    /// most `moved` (m), and every node's position and velocity.
+    pub fn correct(&mut self, fixes: &[(u32, [f32; 4])], moved: f32, nodes: &Nodes) {
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             c.write_fixes(&self.gpu, fixes);
             self.pending_fixes = fixes.len() as u32;
             self.since_build += moved;
         }
-        self.gpu.write(&self.nodes.vr, node_vr);
-        self.gpu.write(&self.nodes.vz, node_vz);
+        self.gpu.write(&self.nodes.r, &nodes.r);
+        self.gpu.write(&self.nodes.z, &nodes.z);
+        self.gpu.write(&self.nodes.vr, &nodes.vr);
+        self.gpu.write(&self.nodes.vz, &nodes.vz);
     }
 
     /// Finish the step and read the state back into the CPU structures, with the accumulated
