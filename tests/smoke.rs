@@ -114,7 +114,7 @@ fn lambda_zero_projectile_is_rigid() {
 /// to 0.1 ms at CFL 0.5 and 0.25 puts the same plastic work into the projectile to well within
 /// what a step-made share would change (halving the step would halve it). Before the contact
 /// carried its velocity change into the node positions, the two runs gave 33.7 J and 13.5 J;
-/// now about 0.21 J and 0.20 J (README, "Time step").
+/// now about 0.21 J and 0.20 J (README, "Known shortcomings").
 #[test]
 fn projectile_plastic_work_does_not_depend_on_the_step() {
     let plastic_work = |cfl: &str| {
