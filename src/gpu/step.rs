@@ -12,10 +12,10 @@
 //! then one mapping brings back Δt_k, how far the particles have moved since the neighbour
 //! lists were built, the status words, the hits with their slaves' kinematics and the nodes'
 //! positions and velocities; the host applies the λ correction and the global shift
-//! (physics.md §4, `contact::correct`) and writes the corrected slaves and node velocities for
-//! the next submission, which builds the neighbour lists again only when a particle may have
-//! moved half the lists' skin (`LIST_SKIN`). `flush` runs a pending second half alone, so that
-//! the GPU state is the CPU's after the same number of `Simulation::step` calls (for outputs).
+//! (physics.md §4, `contact::correct`) and writes the corrected slaves and nodes for the next
+//! submission, which builds the neighbour lists again only when a particle may have moved half
+//! the lists' skin (`LIST_SKIN`). `flush` runs a pending second half alone, so that the GPU
+//! state is the CPU's after the same number of `Simulation::step` calls (for outputs).
 
 use super::contact::ContactPass;
 use super::fem::FemPass;
