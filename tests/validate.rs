@@ -105,7 +105,7 @@ fn quick_validation_writes_every_section() {
         );
     }
     // Five sweep speeds and the bisection's run: the quick speeds bracket the wall's damage
-    // onset (200-250 m/s there), so the bisection runs once and finds it.
+    // onset (150-200 m/s there), so the bisection runs once and finds it.
     let shell = csv_rows(&out.join("shell/shell.csv"));
     assert!(shell.iter().filter(|l| l.contains(",sweep,")).count() == 5);
     assert!(

@@ -218,7 +218,7 @@ impl Settings {
                 taylor_factors: [5.0, 4.0, 3.0],
                 convergence_factors: [1.0, 0.85, 0.7, 0.55],
                 deformation: speeds("300:800:250")?,
-                // Damage appears in the wall between 200 and 250 m/s here: one bisection step.
+                // Damage appears in the wall between 150 and 200 m/s here: one bisection step.
                 shell_speeds: speeds("100:500:100")?,
                 shell_tolerance: 60.0,
             }

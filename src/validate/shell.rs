@@ -361,8 +361,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
         "`cases/{SHELL_FILE}`{}: the Forrestal outline hollowed to a {:.2} mm wall (cavity \
          {:.1} mm across), {:.3} kg, material preset `{}`, into {:.1} MPa concrete, on {}. \
          Striking speeds {} m/s, then bisection on the largest damage behind the nose (the \
-         shell's wall; the nose's surface elements, which fail even at low speed here, are left \
-         out): \
+         shell's wall; the nose, where the contact's load is highest, is left out): \
          a run counts as damaged when that damage is above 0 (damage has appeared in the wall, \
          physics.md §8; the Johnson–Cook damage grows from the first plastic strain; a run that \
          stopped early counts by the damage it reached); the bisection stops \

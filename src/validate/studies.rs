@@ -262,7 +262,7 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
         "The Forrestal penetrator into the {} m/s shot's target (`cases/{}`, the thicker one) at \
          {} m/s, on {}: its final plastic deformation, as the largest element plastic strain \
          (over the whole projectile, and behind the nose: the elements whose centroid started \
-         in the shank, which leaves out the nose's surface elements that fail at every speed) \
+         in the shank, which leaves out the nose, where the contact's load is highest) \
          and the shortening of its axial extent (initial {:.1} mm). The paper finds the \
          deformation growing with speed. No accuracy target. Raw data: {csv}.\n\n",
         c.shot.velocity,
