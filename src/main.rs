@@ -115,10 +115,12 @@ enum Command {
     /// Run the validation cases and the paper's studies; write DIR/report.md with plots and
     /// each section's CSV.
     Validate {
-        /// Which paths: cpu, gpu, or auto (both, the GPU where an adapter is found). The
-        /// error-against-run-time section runs on each, the other sections on the first.
-        #[arg(long, value_enum, default_value = "auto")]
-        backend: BackendArg,
+        /// Which paths, in order (comma-separated): cpu, gpu, or auto (gpu then cpu where an
+        /// adapter is found, else cpu). The error-against-run-time section runs on each, the
+        /// other sections on the first: `cpu,gpu` runs them on the CPU and still compares the
+        /// two paths.
+        #[arg(long, value_enum, value_delimiter = ',', default_value = "auto")]
+        backend: Vec<BackendArg>,
         /// GPU adapter (part of its name).
         #[arg(long)]
         adapter: Option<String>,
@@ -236,7 +238,7 @@ fn main() -> ExitCode {
                 cases,
                 data,
                 out,
-                backends: backends(backend, adapter.as_deref(), "validate"),
+                backends: backend_list(&backend, adapter.as_deref(), "validate"),
                 adapter,
                 quick,
                 only,
@@ -449,6 +451,19 @@ fn backends(arg: BackendArg, adapter: Option<&str>, command: &str) -> Vec<Backen
             }
         },
     }
+}
+
+/// The backends of a comma-separated `--backend`, each `auto` expanded, in order, each once.
+fn backend_list(args: &[BackendArg], adapter: Option<&str>, command: &str) -> Vec<Backend> {
+    let mut out = Vec::new();
+    for &a in args {
+        for b in backends(a, adapter, command) {
+            if !out.contains(&b) {
+                out.push(b);
+            }
+        }
+    }
+    out
 }
 
 fn fail(code: u8, msg: &str) -> ExitCode {

@@ -174,6 +174,37 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `--backend cpu,gpu` keeps its order: the sections other than the convergence study run on
+/// the first backend listed, and the report names both. Needs a GPU adapter (lavapipe in CI):
+/// without one `validate` refuses the GPU and this test fails.
+#[test]
+fn a_backend_list_runs_the_sections_on_its_first() {
+    let out = scratch("validate-backends");
+    let data = data();
+    let o = penetrate(&[
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu,gpu",
+        "--only",
+        "taylor",
+        "--out",
+        out.to_str().unwrap(),
+        "--data",
+        data.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("- Backends: cpu, gpu ("), "{report}");
+    let runs: Vec<String> = std::fs::read_dir(out.join("taylor/runs"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(runs.len(), 6, "{runs:?}");
+    assert!(runs.iter().all(|r| r.ends_with("-cpu")), "{runs:?}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// Replaces the first `from` by `to` in `file` of the first (by name) of the six quick Taylor
 /// runs under `out`; returns the file's path and its text before.
 fn edit_first_taylor_run(out: &Path, file: &str, from: &str, to: &str) -> (PathBuf, String) {

@@ -28,8 +28,8 @@ enum Stop {
 /// wall, `max_damage_shank` > 0): physics.md §8 defines the critical velocity as the one above
 /// which damage appears, and the paper finds no damage (损伤破坏) at 250 m/s and some at
 /// 300 m/s. The Johnson–Cook damage grows from the first plastic strain, so this is also the
-/// speed above which the wall yields. The nose's surface elements are left out: they fail at
-/// any speed here (the light nose nodes), which says nothing of the shell.
+/// speed above which the wall yields. The nose is left out: the contact loads it hardest, and
+/// its yielding says nothing of the shell.
 fn damaged(r: &RunRecord) -> Option<bool> {
     r.summary().map(|s| s.max_damage_shank > 0.0)
 }
