@@ -146,6 +146,11 @@ enum Command {
         /// running it again: an interrupted validation goes on where it stopped.
         #[arg(long)]
         resume: bool,
+        /// With --resume, also take runs made by this other build (the 16 hex digits that end
+        /// its `solver_build`; comma-separated or repeated), e.g. to write the report again
+        /// after a change to the report alone. The report lists the build of every run.
+        #[arg(long, value_delimiter = ',')]
+        resume_build: Vec<String>,
     },
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check {
@@ -225,6 +230,7 @@ fn main() -> ExitCode {
             cases,
             data,
             resume,
+            resume_build,
         } => {
             let only = match only
                 .iter()
@@ -243,6 +249,7 @@ fn main() -> ExitCode {
                 quick,
                 only,
                 resume,
+                resume_builds: resume_build,
             };
             match validate::run(&opts, &mut |line| eprintln!("{line}")) {
                 Ok(o) => {

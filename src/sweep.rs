@@ -5,7 +5,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::output::summary::{same_build, Summary};
+use crate::output::summary::{fingerprint, same_build, Summary};
 use crate::scene::{self, Backend, Scene, SceneError};
 use crate::solver::{self, RunError, RunOptions};
 
@@ -259,13 +259,15 @@ pub fn run_set(
 /// values (comment and blank lines aside), its `summary.json` must say `completed` on the same
 /// backend (a GPU run: on the adapter named `gpu_adapter`, as its summary names it), and with
 /// `vtk` its frames must be there, and it must name this very build of the solver
-/// (`solver_build`, [`build_id`](crate::output::summary::build_id)).
+/// (`solver_build`, [`build_id`](crate::output::summary::build_id)) or one whose fingerprint is
+/// in `other_builds` (builds the caller vouches for by name).
 pub fn completed_run(
     dir: &Path,
     scene: &Scene,
     backend: Backend,
     gpu_adapter: Option<&str>,
     vtk: bool,
+    other_builds: &[String],
 ) -> Option<Summary> {
     let settings = |text: &str| -> Vec<String> {
         text.lines()
@@ -287,7 +289,9 @@ pub fn completed_run(
     (summary.status == "completed"
         && summary.backend == backend.name()
         && same_adapter
-        && same_build(&summary.solver_build))
+        && (same_build(&summary.solver_build)
+            || fingerprint(&summary.solver_build)
+                .is_some_and(|f| other_builds.iter().any(|o| o == f))))
     .then_some(summary)
 }
 

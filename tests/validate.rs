@@ -288,6 +288,31 @@ fn resume_takes_matching_completed_runs_only() {
     let rerun = std::fs::read_to_string(&summary).unwrap();
     assert!(rerun.contains("\"solver_build\": \"penetrate "), "{rerun}");
 
+    // ... unless that build is named with --resume-build; the report says whose runs it took.
+    let other = "penetrate 0.1.0 0123456789abcdef";
+    let (summary, _) = edit_first_taylor_run(
+        &out,
+        "summary.json",
+        "\"solver_build\": \"penetrate 0.1.0 ",
+        "\"solver_build\": \"penetrate 0.1.0 0123456789abcdef\", \"was\": \"",
+    );
+    let named = ["--resume", "--resume-build", "0123456789abcdef"];
+    let fourth = penetrate(&[&base[..], &named].concat());
+    assert_eq!(resumed(&fourth), 6, "{}", stderr(&fourth));
+    assert!(std::fs::read_to_string(&summary).unwrap().contains(other));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains(&format!("`{other}` (taken with --resume-build): 1")),
+        "{report}"
+    );
+    let fifth = penetrate(&[&base[..], &["--resume", "--resume-build", "0123"]].concat());
+    assert_eq!(fifth.status.code(), Some(2));
+    assert!(
+        stderr(&fifth).contains("--resume-build 0123"),
+        "{}",
+        stderr(&fifth)
+    );
+
     assert_eq!(resumed(&penetrate(&base)), 0);
     let _ = std::fs::remove_dir_all(&out);
 }

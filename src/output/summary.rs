@@ -24,6 +24,14 @@ pub fn same_build(recorded: &str) -> bool {
     recorded == build_id() && !recorded.ends_with(" unknown")
 }
 
+/// The fingerprint of a `solver_build` string (its last word), if it has one.
+pub fn fingerprint(build: &str) -> Option<&str> {
+    build
+        .rsplit(' ')
+        .next()
+        .filter(|f| f.len() == 16 && f.bytes().all(|b| b.is_ascii_hexdigit()))
+}
+
 fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)

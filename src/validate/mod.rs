@@ -25,6 +25,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::output::summary::{build_id, fingerprint};
 use crate::plot::Chart;
 use crate::scene::{self, Backend, Scene};
 use crate::sweep::{self, RunRecord, RunSettings, RunSpec, SweepError, Vary};
@@ -112,6 +113,9 @@ pub struct Options {
     /// Take a completed run already in `out` when its resolved scene and backend are the ones
     /// asked for ([`sweep::completed_run`]) instead of running it again.
     pub resume: bool,
+    /// With `resume`, also take runs made by these builds (their fingerprints, 16 hex digits):
+    /// the report lists the build of every run it used.
+    pub resume_builds: Vec<String>,
 }
 
 /// How a validation ended (its accuracy is in the report, not here).
@@ -342,7 +346,8 @@ impl Context<'_> {
                 .resume
                 .then(|| {
                     let adapter = self.gpu_adapter.as_deref();
-                    sweep::completed_run(&p.spec.dir, &p.scene, backend, adapter, vtk)
+                    let other = &self.opts.resume_builds;
+                    sweep::completed_run(&p.spec.dir, &p.scene, backend, adapter, vtk, other)
                 })
                 .flatten();
             if let Some(summary) = earlier_process {
@@ -491,6 +496,21 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
     if opts.backends.is_empty() {
         return Err(ValidateError::Input("no backend to run on".into()));
     }
+    if let Some(bad) = opts
+        .resume_builds
+        .iter()
+        .find(|b| fingerprint(b.as_str()) != Some(b.as_str()))
+    {
+        return Err(ValidateError::Input(format!(
+            "--resume-build {bad}: a build's fingerprint is the 16 hex digits that end its \
+             `solver_build` (summary.json)"
+        )));
+    }
+    if !opts.resume_builds.is_empty() && !opts.resume {
+        return Err(ValidateError::Input(
+            "--resume-build takes earlier runs: it needs --resume".into(),
+        ));
+    }
     let mut gpu_adapter = None;
     for &b in &opts.backends {
         gpu_adapter = gpu_adapter.or(sweep::check_backend(b, opts.adapter.as_deref())?);
@@ -598,6 +618,7 @@ fn render(
         ctx.reused,
         ctx.failed.len()
     );
+    md += &builds_line(ctx);
     md += &format!("- Wall time: {wall_s:.0} s\n\n");
     if !ctx.failed.is_empty() {
         md += "Runs that did not complete:\n\n";
@@ -633,6 +654,32 @@ fn render(
         md += &format!("\n## {}\n\n{}", s.title(), p.markdown);
     }
     md
+}
+
+/// The report's line naming the solver build of every run it used, this executable's first.
+fn builds_line(ctx: &Context) -> String {
+    let this = build_id();
+    let mut counts: Vec<(String, usize)> = vec![(this.to_string(), 0)];
+    for s in ctx.done.iter().filter_map(|r| r.summary()) {
+        match counts.iter_mut().find(|(b, _)| *b == s.solver_build) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((s.solver_build.clone(), 1)),
+        }
+    }
+    let parts: Vec<String> = counts
+        .iter()
+        .enumerate()
+        .filter(|(i, (_, n))| *i == 0 || *n > 0)
+        .map(|(i, (b, n))| {
+            let whose = if i == 0 {
+                "this executable"
+            } else {
+                "taken with --resume-build"
+            };
+            format!("`{b}` ({whose}): {n}")
+        })
+        .collect();
+    format!("- Solver builds of the runs: {}\n", parts.join("; "))
 }
 
 /// A Markdown table (a `|` in a cell is escaped).
