@@ -237,47 +237,60 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     let depth_plot = ctx.plot(section, "depth-vs-velocity.png", &depth_chart)?;
     let damage_plot = ctx.plot(section, "damage-vs-velocity.png", &damage_chart)?;
 
-    // Damage maps on both sides of the critical velocity (the sweep's ends without one).
-    let sides = match &bracket {
-        Ok(b) => [b.below, b.above],
-        Err(_) => [
+    // Damage maps on both sides of the critical velocity (the sweep's ends without one), and
+    // at the fastest speed run, on one colour scale: from 0 to the largest damage among them.
+    let fastest = all.iter().map(|(_, r)| speed(r)).fold(f64::NAN, f64::max);
+    let mut sides = match &bracket {
+        Ok(b) => vec![b.below, b.above],
+        Err(_) => vec![
             speeds.values.first().copied().unwrap_or(0.0),
             speeds.values.last().copied().unwrap_or(0.0),
         ],
     };
+    if fastest.is_finite() && !sides.contains(&fastest) {
+        sides.push(fastest);
+    }
+    let mut frames = Vec::new();
     let mut maps = String::new();
     for v in sides {
         let Some((_, r)) = all.iter().find(|(_, r)| speed(r) == v) else {
             continue;
         };
         match frame::last_projectile_frame(&r.dir) {
-            Ok(f) => {
-                // The projectile lying along x, mirrored about its axis: the whole section.
-                let mut triangles = Vec::with_capacity(2 * f.triangles.len());
-                for sign in [1.0, -1.0] {
-                    triangles.extend(
-                        f.triangles
-                            .iter()
-                            .map(|t| t.map(|k| [f.z[k] * 1e3, sign * f.r[k] * 1e3])),
-                    );
-                }
-                let map = FieldMap {
-                    title: format!("Shell projectile damage at {v} m/s (end of run)"),
-                    x_label: "z (mm)".into(),
-                    y_label: "r (mm)".into(),
-                    value_label: "damage".into(),
-                    triangles,
-                    values: [f.damage.clone(), f.damage].concat(),
-                    range: (0.0, 1.0),
-                };
-                let file = format!("damage-map-{v}.png");
-                let path = ctx.dir(section).join(&file);
-                map.write_png(&path)
-                    .map_err(|e| ValidateError::Io(format!("{}: {e}", path.display())))?;
-                maps += &format!("![{}]({}/{file})\n", map.title, section.name());
-            }
+            Ok(f) => frames.push((v, f)),
             Err(e) => maps += &format!("- {v} m/s: no damage map ({e})\n"),
         }
+    }
+    let largest = frames
+        .iter()
+        .flat_map(|(_, f)| f.damage.iter().copied())
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max);
+    let range = (0.0, if largest > 0.0 { largest } else { 1.0 });
+    for (v, f) in frames {
+        // The projectile lying along x, mirrored about its axis: the whole section.
+        let mut triangles = Vec::with_capacity(2 * f.triangles.len());
+        for sign in [1.0, -1.0] {
+            triangles.extend(
+                f.triangles
+                    .iter()
+                    .map(|t| t.map(|k| [f.z[k] * 1e3, sign * f.r[k] * 1e3])),
+            );
+        }
+        let map = FieldMap {
+            title: format!("Shell projectile damage at {v} m/s (end of run)"),
+            x_label: "z (mm)".into(),
+            y_label: "r (mm)".into(),
+            value_label: "damage".into(),
+            triangles,
+            values: [f.damage.clone(), f.damage].concat(),
+            range,
+        };
+        let file = format!("damage-map-{v}.png");
+        let path = ctx.dir(section).join(&file);
+        map.write_png(&path)
+            .map_err(|e| ValidateError::Io(format!("{}: {e}", path.display())))?;
+        maps += &format!("![{}]({}/{file})\n", map.title, section.name());
     }
 
     // Damaged area against time, one curve per sweep speed.
@@ -408,8 +421,12 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     md += &depth_plot;
     md += "\n";
     md += &damage_plot;
-    md += "\nDamage of the projectile's elements at the end of the runs either side of the \
-           critical velocity (the deformed r–z section, mirrored about the axis):\n\n";
+    md += &format!(
+        "\nDamage of the projectile's elements at the end of the runs either side of the \
+         critical velocity and of the fastest run (the deformed r–z section, mirrored about the \
+         axis; one colour scale, from 0 to {:.3}, the largest damage among them):\n\n",
+        range.1
+    );
     md += &maps;
     md += "\nDamaged area (Σ damage × element r–z area, the `damage_area_m2` column of \
            `history.csv`) against time:\n\n";
