@@ -13,6 +13,8 @@ use font8x8::{UnicodeFonts, BASIC_FONTS, GREEK_FONTS, LATIN_FONTS};
 
 const WIDTH: i64 = 800;
 const HEIGHT: i64 = 560;
+/// Least height of a field map's colour bar (px).
+const COLOUR_BAR_MIN: i64 = 160;
 /// Plot box limits (px): room above for the title, below for tick labels and the x label.
 const BOX_TOP: f64 = 44.0;
 const BOX_BOTTOM: f64 = 500.0;
@@ -245,7 +247,8 @@ pub struct FieldMap {
 }
 
 impl FieldMap {
-    /// Renders the map to an 800×560 RGB PNG with equal scales on both axes and a colour bar;
+    /// Renders the map to an RGB PNG 800 px wide with equal scales on both axes and a colour
+    /// bar, as tall as the map needs (at most 560 px; a slender map leaves no blank band);
     /// "no data" when no triangle has finite corners.
     pub fn write_png(&self, path: &Path) -> io::Result<()> {
         self.render().write_png(path)
@@ -283,12 +286,18 @@ impl FieldMap {
     }
 
     fn render(&self) -> Canvas {
-        let mut canvas = Canvas::new();
-        canvas.title(&self.title);
         let Some(frame) = self.frame() else {
+            let mut canvas = Canvas::new();
+            canvas.title(&self.title);
             canvas.no_data(&self.x_label, &self.y_label);
             return canvas;
         };
+        // Room under the map for the tick labels and the x label, and beside it for the
+        // colour bar (at least COLOUR_BAR_MIN tall).
+        let (_, top, _, bottom) = frame.rect.edges();
+        let height = (bottom + 44).max(top + COLOUR_BAR_MIN + 12).min(HEIGHT);
+        let mut canvas = Canvas::with_height(height);
+        canvas.title(&self.title);
         frame.draw_axes(&mut canvas, false, &self.x_label, &self.y_label);
         let edges = frame.rect.edges();
         for (i, triangle) in self.triangles.iter().enumerate() {
@@ -302,7 +311,7 @@ impl FieldMap {
 
     /// Colour bar right of the map, max at the top, with its limits and `value_label`.
     fn draw_colour_bar(&self, canvas: &mut Canvas, (_, top, right, bottom): Edges) {
-        let (x, height) = (right + 36, (bottom - top).max(160));
+        let (x, height) = (right + 36, (bottom - top).max(COLOUR_BAR_MIN));
         for row in 0..height {
             let t = 1.0 - row as f64 / (height - 1) as f64;
             canvas.fill(x, top + row, 18, 1, viridis(t));
@@ -618,27 +627,34 @@ fn widest<'a>(texts: impl Iterator<Item = &'a str>) -> i64 {
     texts.map(|t| text_width(t, 1)).max().unwrap_or(0)
 }
 
-/// An 800×560 RGB image, white to start; drawing outside it is ignored.
+/// An RGB image 800 px wide and 560 (or `height`) tall, white to start; drawing outside it is
+/// ignored.
 struct Canvas {
     rgb: Vec<u8>,
+    height: i64,
 }
 
 impl Canvas {
     fn new() -> Canvas {
+        Canvas::with_height(HEIGHT)
+    }
+
+    fn with_height(height: i64) -> Canvas {
         Canvas {
-            rgb: vec![255; (WIDTH * HEIGHT * 3) as usize],
+            rgb: vec![255; (WIDTH * height * 3) as usize],
+            height,
         }
     }
 
     fn set(&mut self, x: i64, y: i64, colour: Rgb) {
-        if (0..WIDTH).contains(&x) && (0..HEIGHT).contains(&y) {
+        if (0..WIDTH).contains(&x) && (0..self.height).contains(&y) {
             let i = 3 * (y * WIDTH + x) as usize;
             self.rgb[i..i + 3].copy_from_slice(&colour);
         }
     }
 
     fn fill(&mut self, x: i64, y: i64, width: i64, height: i64, colour: Rgb) {
-        for y in y.max(0)..y.saturating_add(height).min(HEIGHT) {
+        for y in y.max(0)..y.saturating_add(height).min(self.height) {
             for x in x.max(0)..x.saturating_add(width).min(WIDTH) {
                 self.set(x, y, colour);
             }
@@ -758,7 +774,7 @@ impl Canvas {
     fn write_png(&self, path: &Path) -> io::Result<()> {
         // Encoded in memory, so that every error writing the file reaches the caller.
         let mut bytes = Vec::new();
-        let mut encoder = png::Encoder::new(&mut bytes, WIDTH as u32, HEIGHT as u32);
+        let mut encoder = png::Encoder::new(&mut bytes, WIDTH as u32, self.height as u32);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         let mut writer = encoder.write_header()?;
@@ -933,6 +949,25 @@ mod tests {
             let at = (px.floor() as i64, py.floor() as i64);
             assert_eq!(pixel(&rgb, at), viridis(value), "value {value}");
         }
+
+        // A slender map (10:1) gets a canvas only as tall as it and its colour bar need, with
+        // the x axis's label still on it.
+        let slender = FieldMap {
+            triangles: vec![[[0.0, 0.0], [10.0, 0.0], [0.0, 1.0]]],
+            values: vec![0.5],
+            ..map
+        };
+        let path = dir.join("slender.png");
+        slender.write_png(&path).expect("write slender map");
+        let (width, height, rgb) = decode(&path);
+        assert_eq!(width, WIDTH as u32);
+        let (_, top, _, bottom) = slender.frame().expect("finite").rect.edges();
+        let height = i64::from(height);
+        assert!(height < HEIGHT / 2, "{height} px tall");
+        assert!(height >= top + COLOUR_BAR_MIN && height >= bottom + 34);
+        let label_rows = (bottom + 20..height).flat_map(|y| (0..WIDTH).map(move |x| (x, y)));
+        let inked = label_rows.filter(|&p| pixel(&rgb, p) != WHITE).count();
+        assert!(inked > 20, "no x label under the map ({inked} px)");
         fs::remove_dir_all(dir).expect("remove temp dir");
     }
 
