@@ -119,8 +119,8 @@ fn quick_validation_writes_every_section() {
     assert!(!csv_rows(&out.join("shell/damage-area.csv")).is_empty());
     let mut found = Vec::new();
     pngs(&out, &mut found);
-    // Two Taylor, one Forrestal, two convergence, two history, two deformation, five shell.
-    assert!(found.len() >= 14, "{found:?}");
+    // Two Taylor, one Forrestal, two convergence, two history, three deformation, five shell.
+    assert!(found.len() >= 15, "{found:?}");
     for png in &found {
         let bytes = std::fs::read(png).unwrap();
         assert!(

@@ -186,13 +186,15 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
     let length0 = c.scene.projectile.length;
     let mut rows = Vec::new();
     let mut table_rows = Vec::new();
-    let (mut strain, mut strain_shank, mut shortening) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut strain, mut strain_shank, mut work, mut shortening) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (&v, r) in speeds.values.iter().zip(&records) {
         let s = r.summary();
         let change = s.map(|s| 1.0 - s.final_length_m / length0);
         if let Some(s) = r.completed() {
             strain.push((v, s.max_plastic_strain));
             strain_shank.push((v, s.max_plastic_strain_shank));
+            work.push((v, s.energy.plastic_work_projectile));
             shortening.push((v, 100.0 * (1.0 - s.final_length_m / length0)));
         }
         rows.push(vec![
@@ -201,6 +203,7 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
             or_dash(s, |s| s.depth_m.to_string()),
             or_dash(s, |s| s.max_plastic_strain.to_string()),
             or_dash(s, |s| s.max_plastic_strain_shank.to_string()),
+            or_dash(s, |s| s.energy.plastic_work_projectile.to_string()),
             or_dash(s, |s| s.max_damage.to_string()),
             length0.to_string(),
             or_dash(s, |s| s.final_length_m.to_string()),
@@ -213,6 +216,7 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
             or_dash(s, |s| format!("{:.4}", s.depth_m)),
             or_dash(s, |s| format!("{:.3}", s.max_plastic_strain)),
             or_dash(s, |s| format!("{:.4}", s.max_plastic_strain_shank)),
+            or_dash(s, |s| format!("{:.1}", s.energy.plastic_work_projectile)),
             or_dash(s, |s| format!("{:.2}", s.max_damage)),
             or_dash(s, |s| format!("{:.2}", s.final_length_m * 1e3)),
             or_dash(change, |x| format!("{:.2} %", 100.0 * x)),
@@ -228,6 +232,7 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
             "depth_m",
             "max_plastic_strain",
             "max_plastic_strain_shank",
+            "plastic_work_j",
             "max_damage",
             "initial_length_m",
             "final_length_m",
@@ -248,6 +253,16 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
         .series("whole projectile", strain, Mark::LinePoints)
         .series("behind the nose", strain_shank, Mark::LinePoints),
     )?;
+    let work_plot = ctx.plot(
+        section,
+        "plastic-work.png",
+        &Chart::new(
+            "Plastic work in the projectile against striking speed",
+            "striking speed (m/s)",
+            "plastic work (J)",
+        )
+        .series("whole projectile", work, Mark::LinePoints),
+    )?;
     let length_plot = ctx.plot(
         section,
         "shortening.png",
@@ -262,8 +277,10 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
         "The Forrestal penetrator into the {} m/s shot's target (`cases/{}`, the thicker one) at \
          {} m/s, on {}: its final plastic deformation, as the largest element plastic strain \
          (over the whole projectile, and behind the nose: the elements whose centroid started \
-         in the shank, which leaves out the nose, where the contact's load is highest) \
-         and the shortening of its axial extent (initial {:.1} mm). The paper finds the \
+         in the shank, which leaves out the nose, where the contact's load is highest), \
+         the plastic work done in it (the whole projectile's, a measure that does not hang \
+         on one element) and the shortening of its axial extent (initial {:.1} mm). The \
+         paper finds the \
          deformation growing with speed. No accuracy target. Raw data: {csv}.\n\n",
         c.shot.velocity,
         c.file,
@@ -282,6 +299,7 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
             "depth (m)",
             "max plastic strain",
             "behind the nose",
+            "plastic work (J)",
             "max damage",
             "final length (mm)",
             "shortening",
@@ -290,6 +308,8 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
         &table_rows,
     );
     md += &strain_plot;
+    md += "\n";
+    md += &work_plot;
     md += "\n";
     md += &length_plot;
     Ok(SectionOut {
