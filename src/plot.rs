@@ -294,12 +294,12 @@ impl FieldMap {
         };
         // Room under the map for the tick labels and the x label, and beside it for the
         // colour bar (at least COLOUR_BAR_MIN tall).
-        let (_, top, _, bottom) = frame.rect.edges();
+        let edges = frame.rect.edges();
+        let (_, top, _, bottom) = edges;
         let height = (bottom + 44).max(top + COLOUR_BAR_MIN + 12).min(HEIGHT);
         let mut canvas = Canvas::with_height(height);
         canvas.title(&self.title);
         frame.draw_axes(&mut canvas, false, &self.x_label, &self.y_label);
-        let edges = frame.rect.edges();
         for (i, triangle) in self.triangles.iter().enumerate() {
             let corners = triangle.map(|[x, y]| frame.pixel((x, y)));
             canvas.triangle(corners, edges, self.colour(self.values.get(i).copied()));

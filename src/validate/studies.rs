@@ -191,11 +191,11 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
     for (&v, r) in speeds.values.iter().zip(&records) {
         let s = r.summary();
         let change = s.map(|s| 1.0 - s.final_length_m / length0);
-        if let Some(s) = r.completed() {
+        if let (Some(s), Some(x)) = (r.completed(), change) {
             strain.push((v, s.max_plastic_strain));
             strain_shank.push((v, s.max_plastic_strain_shank));
             work.push((v, s.energy.plastic_work_projectile));
-            shortening.push((v, 100.0 * (1.0 - s.final_length_m / length0)));
+            shortening.push((v, 100.0 * x));
         }
         rows.push(vec![
             v.to_string(),
@@ -280,8 +280,8 @@ pub(super) fn deformation(ctx: &mut Context) -> Result<SectionOut, ValidateError
          in the shank, which leaves out the nose, where the contact's load is highest), \
          the plastic work done in it (the whole projectile's, a measure that does not hang \
          on one element) and the shortening of its axial extent (initial {:.1} mm). The \
-         paper finds the \
-         deformation growing with speed. No accuracy target. Raw data: {csv}.\n\n",
+         paper finds the deformation growing with speed. No accuracy target. Raw data: \
+         {csv}.\n\n",
         c.shot.velocity,
         c.file,
         speeds
