@@ -318,6 +318,45 @@ fn resume_takes_matching_completed_runs_only() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// Sections share runs: the rigid-vs-elastic study's λ = 0.2 runs are the Forrestal section's
+/// 277 and 642 m/s shots. `--resume` takes them from the folder of the section that made them
+/// in an earlier process, and the study's history plot reads them there.
+#[test]
+fn resume_takes_a_run_another_section_made() {
+    let out = scratch("validate-resume-shared");
+    let dir = out.to_str().unwrap();
+    let data = data();
+    let base = [
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu",
+        "--out",
+        dir,
+        "--data",
+        data.to_str().unwrap(),
+    ];
+    let first = penetrate(&[&base[..], &["--only", "forrestal"]].concat());
+    assert!(first.status.success(), "{}", stderr(&first));
+    let second = penetrate(&[&base[..], &["--only", "rigid-vs-elastic", "--resume"]].concat());
+    assert_eq!(resumed(&second), 2, "{}", stderr(&second));
+    let err = stderr(&second);
+    assert_eq!(
+        err.matches("forrestal/runs/").count(),
+        2,
+        "the λ = 0.2 runs come from the Forrestal section's folder: {err}"
+    );
+    let made: Vec<String> = std::fs::read_dir(out.join("rigid-vs-elastic/runs"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(made.len(), 2, "only the λ = 0 runs are made: {made:?}");
+    assert!(made.iter().all(|d| d.contains("lambda0-")), "{made:?}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(!report.contains("no history"), "{report}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// On the GPU `--resume` also asks for the same adapter: a run whose summary names another one
 /// (another machine's GPU, whose wall times mean something else) is run again.
 #[test]

@@ -340,20 +340,25 @@ impl Context<'_> {
             let (label, backend) = (p.spec.label.clone(), p.spec.backend);
             let made = self.done.len() + 1;
             let estimate = self.estimate.max(made);
-            let progress = &mut *self.progress;
             let earlier_process = self
                 .opts
                 .resume
                 .then(|| {
                     let adapter = self.gpu_adapter.as_deref();
                     let other = &self.opts.resume_builds;
-                    sweep::completed_run(&p.spec.dir, &p.scene, backend, adapter, vtk, other)
+                    self.resume_candidates(&p.spec.dir)
+                        .into_iter()
+                        .find_map(|dir| {
+                            sweep::completed_run(&dir, &p.scene, backend, adapter, vtk, other)
+                                .map(|summary| (dir, summary))
+                        })
                 })
                 .flatten();
-            if let Some(summary) = earlier_process {
+            let progress = &mut *self.progress;
+            if let Some((dir, summary)) = earlier_process {
                 let r = RunRecord {
                     label,
-                    dir: p.spec.dir,
+                    dir,
                     backend,
                     scene: p.scene,
                     outcome: Ok(summary),
@@ -392,6 +397,22 @@ impl Context<'_> {
             records.push(r);
         }
         Ok(records)
+    }
+
+    /// Where `--resume` looks for an earlier process's run that `own` would hold: `own` first,
+    /// then every run folder of every section, since sections share runs (the Forrestal shots
+    /// are also the rigid-vs-elastic study's λ = 0.2 runs) and an earlier process may have made
+    /// a run for another section than the one now asking.
+    fn resume_candidates(&self, own: &Path) -> Vec<PathBuf> {
+        let mut others: Vec<PathBuf> = Section::ALL
+            .into_iter()
+            .filter_map(|s| std::fs::read_dir(self.dir(s).join("runs")).ok())
+            .flatten()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|d| d.is_dir() && d != own)
+            .collect();
+        others.sort();
+        std::iter::once(own.to_path_buf()).chain(others).collect()
     }
 
     /// Writes `rows` under `header` to the section's `file`; returns the report's link to it.
