@@ -92,8 +92,10 @@ fn quick_validation_writes_every_section() {
         ("taylor/taylor.csv", 6),
         ("forrestal/forrestal.csv", shots),
         ("target-size/target-size.csv", 2),
-        // Two shots at four resolutions on the one backend.
+        // Two shots at four resolutions on the one backend, and each struck at five speeds
+        // a few ulps apart at the coarsest (the round-off ensemble).
         ("convergence/convergence.csv", 8),
+        ("convergence/roundoff.csv", 10),
         ("rigid-vs-elastic/rigid-vs-elastic.csv", 4),
         ("deformation/deformation.csv", 3),
     ] {
@@ -203,6 +205,67 @@ fn a_backend_list_runs_the_sections_on_its_first() {
         .collect();
     assert_eq!(runs.len(), 6, "{runs:?}");
     assert!(runs.iter().all(|r| r.ends_with("-cpu")), "{runs:?}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The convergence study on both backends: the CPU/GPU check at each resolution, and the
+/// round-off ensemble, whose runs are struck 0, ±1 and ±2 f32 ulps faster at the coarsest
+/// level, on each backend, with the check on their mean depths computed from those runs.
+#[test]
+fn convergence_compares_the_backends_run_by_run_and_by_roundoff_ensemble() {
+    let out = scratch("validate-convergence");
+    let data = data();
+    let o = penetrate(&[
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu,gpu",
+        "--only",
+        "convergence",
+        "--out",
+        out.to_str().unwrap(),
+        "--data",
+        data.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("### Round-off"), "{report}");
+    assert_eq!(csv_rows(&out.join("convergence/convergence.csv")).len(), 16);
+    let rows = csv_rows(&out.join("convergence/roundoff.csv"));
+    assert_eq!(rows.len(), 20, "{rows:?}");
+    for shot in ["277", "642"] {
+        let mut means = Vec::new();
+        for backend in ["cpu", "gpu"] {
+            let runs: Vec<Vec<&str>> = rows
+                .iter()
+                .map(|r| r.split(',').collect::<Vec<_>>())
+                .filter(|c| c[0] == shot && c[1] == backend)
+                .collect();
+            assert_eq!(runs.len(), 5, "{shot} m/s on {backend}: {rows:?}");
+            let base = shot.parse::<f32>().unwrap().to_bits() as i64;
+            for c in &runs {
+                assert_eq!(c[7], "completed", "{c:?}");
+                // The striking speed is the shot's, moved by exactly the row's ulps.
+                let speed = c[4].parse::<f64>().unwrap() as f32;
+                let ulps: i64 = c[3].parse().unwrap();
+                assert_eq!(speed.to_bits() as i64 - base, ulps, "{c:?}");
+            }
+            let depths: Vec<f64> = runs.iter().map(|c| c[5].parse().unwrap()).collect();
+            means.push(depths.iter().sum::<f64>() / depths.len() as f64);
+        }
+        let difference = format!("{:+.3} %", 100.0 * (means[1] / means[0] - 1.0));
+        let line = report
+            .lines()
+            .find(|l| l.contains(&format!("{shot} m/s: GPU against CPU mean depth")))
+            .unwrap_or_else(|| panic!("no ensemble check for {shot} m/s: {report}"));
+        assert!(line.contains(&difference), "{line} (expected {difference})");
+        assert!(
+            report.contains(&format!(
+                "{shot} m/s: GPU against CPU depth at 4 resolution(s)"
+            )),
+            "{report}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -496,8 +496,9 @@ pub fn estimate_runs(opts: &Options) -> Result<usize, ValidateError> {
             Section::Forrestal => shots,
             Section::TargetSize => 2,
             Section::Convergence => {
+                // The levels, and the round-off ensemble's nudged runs at the coarsest one.
                 penetration::STUDY_SHOTS.len()
-                    * settings.convergence_factors.len()
+                    * (settings.convergence_factors.len() + penetration::NUDGES.len() - 1)
                     * opts.backends.len()
             }
             Section::RigidVsElastic => 2 * penetration::STUDY_SHOTS.len(),

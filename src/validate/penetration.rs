@@ -2,7 +2,7 @@
 //! the target-size check, and depth error against run time at four resolutions per backend.
 
 use crate::plot::{Chart, Mark};
-use crate::scene::{self, ProjectileShape, Scene};
+use crate::scene::{self, Backend, ProjectileShape, Scene};
 use crate::sweep::{self, RunRecord};
 
 use super::data::{self, Shot};
@@ -525,30 +525,36 @@ impl Level<'_> {
     }
 }
 
+/// The run of a shot with the lattice spacing and the element size scaled by `factor`.
+fn level_ask(ctx: &Context, c: &ShotCase, factor: f64, backend: Backend) -> Ask {
+    let spacing = c.scene.target.as_ref().map_or(0.0, |t| t.spacing);
+    let element = c.scene.projectile.element_size;
+    let mut a = shot_ask(
+        ctx,
+        c,
+        &[
+            format!("target.spacing={}", sweep::tidy(factor * spacing)),
+            format!("projectile.element_size={}", sweep::tidy(factor * element)),
+        ],
+    );
+    a.label += &format!("-x{factor}");
+    a.backend = backend;
+    a
+}
+
 pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     let section = Section::Convergence;
     let factors = ctx.settings.convergence_factors;
+    let cases = STUDY_SHOTS
+        .into_iter()
+        .map(|v| study_shot(ctx, v))
+        .collect::<Result<Vec<_>, _>>()?;
     let mut runs = Vec::new();
-    for v in STUDY_SHOTS {
-        let c = study_shot(ctx, v)?;
-        let spacing = c.scene.target.as_ref().map_or(0.0, |t| t.spacing);
-        let element = c.scene.projectile.element_size;
+    for c in &cases {
         for &backend in &ctx.opts.backends.clone() {
             let asks = factors
                 .iter()
-                .map(|f| {
-                    let mut a = shot_ask(
-                        ctx,
-                        &c,
-                        &[
-                            format!("target.spacing={}", sweep::tidy(f * spacing)),
-                            format!("projectile.element_size={}", sweep::tidy(f * element)),
-                        ],
-                    );
-                    a.label += &format!("-x{f}");
-                    a.backend = backend;
-                    a
-                })
+                .map(|&f| level_ask(ctx, c, f, backend))
                 .collect();
             let records = ctx.run(section, asks, false)?;
             runs.push((c.shot.clone(), records));
@@ -751,8 +757,153 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
     md += &measured_plot;
     md += "\n";
     md += &finest_plot;
+    let coarsest = factors.iter().copied().fold(0.0, f64::max);
+    let (roundoff_md, roundoff_checks) = roundoff(ctx, &cases, coarsest)?;
+    md += &roundoff_md;
+    checks.extend(roundoff_checks);
     Ok(SectionOut {
         markdown: md,
         checks,
     })
+}
+
+/// Striking-speed nudges of the round-off ensemble, in units in the last place of the f32 the
+/// state holds the speed in (0: the convergence run itself).
+pub const NUDGES: [i32; 5] = [-2, -1, 0, 1, 2];
+
+/// `velocity` moved by `ulps` units in the last place of an f32 (`velocity` > 0).
+fn nudged(velocity: f64, ulps: i32) -> f64 {
+    let v = velocity as f32;
+    f64::from(f32::from_bits(v.to_bits().wrapping_add_signed(ulps)))
+}
+
+/// The round-off ensemble: each study shot at the convergence level `factor`, struck
+/// [`NUDGES`] ulps faster, on each backend. A change of the striking speed by a few parts in
+/// 10⁷ is far below any physical uncertainty, so the range of those depths is how far
+/// round-off alone, carried through the contact and the failing concrete, moves one run: the
+/// scale a CPU/GPU difference of single runs is to be read against. Checks that the two
+/// backends' mean depths agree within the backend tolerance.
+fn roundoff(
+    ctx: &mut Context,
+    cases: &[ShotCase],
+    factor: f64,
+) -> Result<(String, Vec<Check>), ValidateError> {
+    let section = Section::Convergence;
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    // (shot speed, backend, mean depth) of every ensemble with at least two completed runs.
+    let mut means: Vec<(f64, Backend, f64)> = Vec::new();
+    for c in cases {
+        let v = c.shot.velocity;
+        for &backend in &ctx.opts.backends.clone() {
+            let asks = NUDGES
+                .iter()
+                .map(|&n| {
+                    let mut a = level_ask(ctx, c, factor, backend);
+                    if n != 0 {
+                        a.overrides
+                            .push(format!("projectile.velocity={}", nudged(v, n)));
+                        a.label += &format!("-ulp{n:+}");
+                    }
+                    a
+                })
+                .collect();
+            let records = ctx.run(section, asks, false)?;
+            let mut depths = Vec::new();
+            for (&n, r) in NUDGES.iter().zip(&records) {
+                let s = r.summary();
+                rows.push(vec![
+                    v.to_string(),
+                    backend.name().to_string(),
+                    factor.to_string(),
+                    n.to_string(),
+                    r.scene.projectile.velocity.to_string(),
+                    or_dash(s, |s| s.depth_m.to_string()),
+                    or_dash(s, |s| s.wall_s.to_string()),
+                    r.status().to_string(),
+                    ctx.rel(&r.dir),
+                ]);
+                depths.extend(r.completed().map(|s| s.depth_m));
+            }
+            let mean = depths.iter().sum::<f64>() / depths.len().max(1) as f64;
+            let (lo, hi) = depths
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &d| {
+                    (lo.min(d), hi.max(d))
+                });
+            let enough = depths.len() >= 2;
+            if enough {
+                means.push((v, backend, mean));
+            }
+            table_rows.push(vec![
+                v.to_string(),
+                backend.name().to_string(),
+                format!("{} of {}", depths.len(), NUDGES.len()),
+                depths
+                    .iter()
+                    .map(|d| format!("{d:.4}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                or_dash(enough.then_some(mean), |m| format!("{m:.4}")),
+                or_dash(enough.then(|| (hi - lo) / mean), |r| {
+                    format!("{:.2} %", 100.0 * r)
+                }),
+            ]);
+        }
+    }
+    let csv = ctx.csv(
+        section,
+        "roundoff.csv",
+        &[
+            "velocity_m_s",
+            "backend",
+            "factor",
+            "ulps",
+            "striking_speed_m_s",
+            "depth_m",
+            "wall_s",
+            "status",
+            "dir",
+        ],
+        &rows,
+    )?;
+    let mut checks = Vec::new();
+    for c in cases {
+        let v = c.shot.velocity;
+        let mean = |b: Backend| means.iter().find(|m| m.0 == v && m.1 == b).map(|m| m.2);
+        let Some((cpu, gpu)) = mean(Backend::Cpu).zip(mean(Backend::Gpu)) else {
+            continue;
+        };
+        let d = gpu / cpu - 1.0;
+        checks.push(Check {
+            section,
+            what: format!(
+                "{v} m/s: GPU against CPU mean depth of the round-off ensemble at ×{factor}"
+            ),
+            target: format!("within {:.1} %", 100.0 * BACKEND_TOLERANCE),
+            result: format!("{:+.3} %", 100.0 * d),
+            pass: Some(d.abs() <= BACKEND_TOLERANCE),
+        });
+    }
+    let mut md = format!(
+        "\n### Round-off\n\nThe same shots at ×{factor}, the striking speed moved by {} units \
+         in the last place of the f32 it is held in: a change of a few parts in 10⁷, far below \
+         any physical uncertainty, so the range of the depths is how far round-off alone moves \
+         a run. A difference between two single runs, the backends' above included, is to be \
+         read against it. Where both backends ran, a check compares their mean depths. Raw \
+         data: {csv}.\n\n",
+        NUDGES.map(|n| n.to_string()).join(", "),
+    );
+    md += &table(
+        &[
+            "speed (m/s)",
+            "backend",
+            "completed",
+            "depths (m)",
+            "mean (m)",
+            "range / mean",
+        ],
+        &table_rows,
+    );
+    Ok((md, checks))
 }
