@@ -177,25 +177,30 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `penetrate validate --quick --backend BACKEND --only SECTIONS --out OUT` on the shipped data.
+fn quick_only(backend: &str, sections: &str, out: &Path) -> Output {
+    let data = data();
+    penetrate(&[
+        "validate",
+        "--quick",
+        "--backend",
+        backend,
+        "--only",
+        sections,
+        "--out",
+        out.to_str().unwrap(),
+        "--data",
+        data.to_str().unwrap(),
+    ])
+}
+
 /// `--backend cpu,gpu` keeps its order: the sections other than the convergence study run on
 /// the first backend listed, and the report names both. Needs a GPU adapter (lavapipe in CI):
 /// without one `validate` refuses the GPU and this test fails.
 #[test]
 fn a_backend_list_runs_the_sections_on_its_first() {
     let out = scratch("validate-backends");
-    let data = data();
-    let o = penetrate(&[
-        "validate",
-        "--quick",
-        "--backend",
-        "cpu,gpu",
-        "--only",
-        "taylor",
-        "--out",
-        out.to_str().unwrap(),
-        "--data",
-        data.to_str().unwrap(),
-    ]);
+    let o = quick_only("cpu,gpu", "taylor", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("- Backends: cpu, gpu ("), "{report}");
@@ -214,19 +219,7 @@ fn a_backend_list_runs_the_sections_on_its_first() {
 #[test]
 fn convergence_compares_the_backends_run_by_run_and_by_roundoff_ensemble() {
     let out = scratch("validate-convergence");
-    let data = data();
-    let o = penetrate(&[
-        "validate",
-        "--quick",
-        "--backend",
-        "cpu,gpu",
-        "--only",
-        "convergence",
-        "--out",
-        out.to_str().unwrap(),
-        "--data",
-        data.to_str().unwrap(),
-    ]);
+    let o = quick_only("cpu,gpu", "convergence", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("### Round-off"), "{report}");
