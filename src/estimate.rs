@@ -2,7 +2,7 @@
 
 use crate::cpu::fem_stress::Geometry;
 use crate::mesh::{self, ProjectileMesh};
-use crate::scene::Scene;
+use crate::scene::{Scene, TargetSpec};
 use crate::state::FemParams;
 
 /// Bytes of state per particle (28 scalar arrays, 2 three-vectors and the 2 index arrays of
@@ -30,10 +30,7 @@ pub fn footprint(s: &Scene) -> Footprint {
     } else {
         mesh::projectile::estimate_counts(p)
     };
-    let particles = s.target.as_ref().map_or(0, |t| {
-        let (cols, rows) = mesh::target::lattice_count(t.radius, t.thickness, t.spacing);
-        cols.saturating_mul(rows)
-    });
+    let particles = s.target.as_ref().map_or(0, particle_count);
     let bytes = particles as f64 * BYTES_PER_PARTICLE as f64
         + elements as f64 * BYTES_PER_ELEMENT as f64
         + nodes as f64 * BYTES_PER_NODE as f64;
@@ -43,6 +40,19 @@ pub fn footprint(s: &Scene) -> Footprint {
         elements,
         bytes,
     }
+}
+
+/// Particles of a target: its lattice less those a lead hole leaves out.
+fn particle_count(t: &TargetSpec) -> usize {
+    let (cols, rows) = mesh::target::lattice_count(t.radius, t.thickness, t.spacing);
+    let drilled = mesh::target::drilled_count(
+        t.radius,
+        t.thickness,
+        t.spacing,
+        t.lead_hole_depth,
+        t.lead_hole_diameter,
+    );
+    cols.saturating_mul(rows).saturating_sub(drilled)
 }
 
 /// Memory this machine can give a run (bytes): MemAvailable of /proc/meminfo, or 8 GiB where it
@@ -114,7 +124,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
                 ((c.k1 as f64 + 4.0 / 3.0 * c.shear_modulus as f64) / c.density as f64).sqrt();
             let h = t.spacing * t.smoothing_ratio;
             (
-                cols * rows,
+                particle_count(t),
                 slave_cols * rows,
                 h / (c_dense * (1.0 + 1.2 * t.viscosity_alpha)),
             )

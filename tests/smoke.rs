@@ -143,8 +143,9 @@ fn projectile_plastic_work_does_not_depend_on_the_step() {
     );
 }
 
-/// A lead hole: the particles inside it are left out, the nose starts at its bottom, and the
-/// projectile meets the concrete there (no earlier); the depth is still measured from z = 0.
+/// A lead hole: the particles inside it are left out (and `check` counts them out), the nose
+/// starts at its bottom, and the projectile meets the concrete there (no earlier); the depth is
+/// still measured from z = 0.
 #[test]
 fn projectile_starts_down_a_lead_hole() {
     let hole = 0.02;
@@ -163,6 +164,8 @@ fn projectile_starts_down_a_lead_hole() {
         .count();
     assert!(removed > 0);
     assert_eq!(p.len(), whole.particles.len() - removed);
+    // `penetrate check` counts the same particles before anything is built.
+    assert_eq!(penetrate::estimate::footprint(&scene).particles, p.len());
     let spacing = scene.target.as_ref().unwrap().spacing;
     assert!((sim.depth() - (hole - 0.25 * spacing)).abs() < 1e-6);
     let mut first_hit_depth = None;

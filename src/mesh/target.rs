@@ -66,6 +66,31 @@ pub fn lattice(
     Ok(t)
 }
 
+/// Whether a particle at (r, z) lies in a lead hole `depth` deep and `diameter` wide.
+fn in_hole(r: f32, z: f32, depth: f64, diameter: f64) -> bool {
+    f64::from(r) < 0.5 * diameter && f64::from(z) > -depth
+}
+
+/// How many particles [`drill`] leaves out of the [`lattice`] of these sizes, counted without
+/// building it (`penetrate check`): the columns in the hole times the rows in it.
+pub fn drilled_count(
+    radius: f64,
+    thickness: f64,
+    spacing: f64,
+    depth: f64,
+    diameter: f64,
+) -> usize {
+    let (cols, rows) = lattice_count(radius, thickness, spacing);
+    let centre = |i: usize| ((i as f64 + 0.5) * spacing) as f32;
+    let in_cols = (0..cols)
+        .take_while(|&i| in_hole(centre(i), 0.0, f64::INFINITY, diameter))
+        .count();
+    let in_rows = (0..rows)
+        .take_while(|&k| in_hole(0.0, -centre(k), depth, f64::INFINITY))
+        .count();
+    in_cols * in_rows
+}
+
 /// Drills a lead hole into the front face along the axis: leaves out every particle whose centre
 /// lies at r < diameter/2 and z > −depth. `depth = 0` leaves the lattice as it is. Returns how
 /// many particles were left out.
@@ -73,7 +98,7 @@ pub fn drill(t: &mut TargetLattice, depth: f64, diameter: f64) -> usize {
     let keep: Vec<bool> =
         t.r.iter()
             .zip(&t.z)
-            .map(|(&r, &z)| !(f64::from(r) < 0.5 * diameter && f64::from(z) > -depth))
+            .map(|(&r, &z)| !in_hole(r, z, depth, diameter))
             .collect();
     fn retain<T>(v: &mut Vec<T>, keep: &[bool]) {
         let mut k = keep.iter();
@@ -138,6 +163,7 @@ mod tests {
         assert_eq!(drill(&mut t, 0.0, 0.05), 0);
         assert_eq!(t, whole);
         // Columns at r = 5, 15 mm (< 20 mm) in rows at z = −5 … −35 mm (> −40 mm): 2 × 4.
+        assert_eq!(drilled_count(0.1, 0.1, d, 0.04, 0.04), 8);
         assert_eq!(drill(&mut t, 0.04, 0.04), 8);
         assert_eq!(t.r.len(), 100 - 8);
         for p in 0..t.r.len() {
@@ -149,6 +175,28 @@ mod tests {
         }
         assert_eq!(t.rear.iter().filter(|&&f| f).count(), 10);
         assert_eq!(t.lateral.iter().filter(|&&f| f).count(), 10);
+    }
+
+    /// The count `check` reports is the count a run drills, at sizes whose hole edges fall on,
+    /// between and next to particle centres (f32 centres).
+    #[test]
+    fn drilled_count_is_what_drill_leaves_out() {
+        for &(spacing, depth, diameter) in &[
+            (0.004, 0.1, 0.0269),
+            (0.004, 0.2, 0.016),
+            (0.003, 0.0015, 0.003),
+            (0.008, 0.3, 0.0086),
+            (0.006, 0.0, 0.05),
+            (0.004, 0.7, 0.6),
+        ] {
+            let mut t = lattice(0.3, 0.76, spacing, 2370.0).unwrap();
+            let counted = drilled_count(0.3, 0.76, spacing, depth, diameter);
+            assert_eq!(
+                drill(&mut t, depth, diameter),
+                counted,
+                "spacing {spacing}, depth {depth}, diameter {diameter}"
+            );
+        }
     }
 
     fn whole_index(t: &TargetLattice, r: f32, z: f32) -> usize {
