@@ -23,7 +23,8 @@
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
 //!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara"),
-//!   `lead_hole_depth` (0), `lead_hole_diameter` (projectile.diameter)
+//!   `lead_hole_depth` (0), `lead_hole_diameter` (projectile.diameter; narrower: a pilot hole,
+//!   the nose starts at the face)
 //! - `[target.concrete]` (optional) any [`Hjc`] field but `density` and `fc`, over
 //!   [`Hjc::from_fc`]
 //! - `[contact]` (optional) `lambda` (0.2), `slave_radius_factor` (1.5)
@@ -182,11 +183,24 @@ pub struct TargetSpec {
     /// What scales the viscosity down where the flow shears rather than compresses.
     pub viscosity_switch: ViscositySwitch,
     /// A hole drilled into the front face along the axis (m; 0: none): the particles whose
-    /// centres lie inside it are left out, and the nose starts at its bottom by default.
+    /// centres lie inside it are left out, and the nose starts at its bottom by default if the
+    /// projectile fits in it; a pilot hole narrower than the projectile leaves it at the face.
     pub lead_hole_depth: f64,
     pub lead_hole_diameter: f64,
     /// HJC constants: §3.1 rule from `fc` and `density`, then any explicit overrides.
     pub concrete: Hjc,
+}
+
+impl TargetSpec {
+    /// How far below the front face the nose may start (m): down the lead hole if the
+    /// projectile fits in it, else at the face (0).
+    pub fn start_depth(&self, projectile_diameter: f64) -> f64 {
+        if self.lead_hole_diameter >= projectile_diameter {
+            self.lead_hole_depth
+        } else {
+            0.0
+        }
+    }
 }
 
 /// `target.viscosity_switch`: the factor on each pair's Monaghan–Gingold Π.
@@ -1168,23 +1182,38 @@ fn resolve(raw: RawScene, origin: &Path) -> Result<Scene, SceneError> {
         }
         (Some(t), None) => {
             let t = resolve_target(&c, &t, &projectile)?;
-            let nose_z = 0.25 * t.spacing - t.lead_hole_depth;
+            let nose_z = 0.25 * t.spacing - t.start_depth(projectile.diameter);
             (Some(t), None, nose_z)
         }
         (None, Some(w)) => (None, Some(WallSpec { z: w.z }), w.z + WALL_GAP),
     };
-    let hole_depth = target.as_ref().map_or(0.0, |t| t.lead_hole_depth);
+    let start_depth = target
+        .as_ref()
+        .map_or(0.0, |t| t.start_depth(projectile.diameter));
+    let pilot = target
+        .as_ref()
+        .is_some_and(|t| t.lead_hole_depth > 0.0 && start_depth == 0.0);
     projectile.nose_z = match (raw.projectile.nose_z, &wall) {
         (None, _) => default_nose_z,
+        (Some(z), None) if pilot => c.require(
+            (0.0..=MAX_START_GAP).contains(&z),
+            "projectile.nose_z",
+            z,
+            &format!(
+                "must be in [0, {MAX_START_GAP}] (m): the lead hole is narrower than the \
+                 projectile (target.lead_hole_diameter < projectile.diameter), so the nose \
+                 starts at or above the front face z = 0"
+            ),
+        )?,
         (Some(z), None) => c.require(
-            (-hole_depth..=MAX_START_GAP).contains(&z),
+            (-start_depth..=MAX_START_GAP).contains(&z),
             "projectile.nose_z",
             z,
             &format!(
                 "must be in [−target.lead_hole_depth, {MAX_START_GAP}] = [{}, {MAX_START_GAP}] \
                  (m): the target's front face is z = 0, the nose may not start inside the \
                  concrete (only down a lead hole), and f32 positions lose resolution far from it",
-                num(if hole_depth > 0.0 { -hole_depth } else { 0.0 })
+                num(if start_depth > 0.0 { -start_depth } else { 0.0 })
             ),
         )?,
         (Some(z), Some(w)) => c.require(
@@ -1624,19 +1653,15 @@ fn resolve_target(
         t.lead_hole_diameter.unwrap_or(projectile.diameter),
         "m",
     )?;
-    // Checked only where there is a hole (an edge impact on a target narrower than the
-    // projectile is a valid scene).
+    // Checked only where there is a hole. A hole narrower than the projectile is a pilot
+    // hole: the nose starts at the face (resolve, `projectile.nose_z`).
     c.require(
-        lead_hole_depth == 0.0
-            || (lead_hole_diameter >= projectile.diameter
-                && lead_hole_diameter <= 2.0 * (radius - 4.0 * spacing)),
+        lead_hole_depth == 0.0 || lead_hole_diameter <= 2.0 * (radius - 4.0 * spacing),
         "target.lead_hole_diameter",
         lead_hole_diameter,
         &format!(
-            "must be in [projectile.diameter, 2·(target.radius − 4·target.spacing)] = [{}, {}] \
-             m: the projectile must fit in the hole, and the wall round it must hold 4 \
-             particles",
-            approx(projectile.diameter),
+            "must be at most 2·(target.radius − 4·target.spacing) = {} m: the wall round the \
+             hole must hold 4 particles",
             approx(2.0 * (radius - 4.0 * spacing))
         ),
     )?;

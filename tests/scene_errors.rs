@@ -314,14 +314,30 @@ fn lead_hole_must_fit_target_and_projectile() {
         &["target.lead_hole_depth=-0.01"],
         &["target.lead_hole_depth"],
     );
+    // A pilot hole narrower than the projectile: the nose cannot start down it.
     refused(
         &smoke_text(),
         &[
             "target.lead_hole_depth=0.02",
             "target.lead_hole_diameter=0.015",
+            "projectile.nose_z=-0.01",
         ],
-        &["target.lead_hole_diameter", "projectile.diameter"],
+        &[
+            "projectile.nose_z",
+            "target.lead_hole_diameter < projectile.diameter",
+        ],
     );
+    let pilot = parse_str(
+        &smoke_text(),
+        Path::new(ORIGIN),
+        &[
+            "target.lead_hole_depth=0.02".into(),
+            "target.lead_hole_diameter=0.015".into(),
+        ],
+    )
+    .unwrap();
+    // It starts at the face, as without a hole (a quarter spacing above it).
+    assert_eq!(pilot.projectile.nose_z, 0.25 * 0.0025);
     refused(
         &smoke_text(),
         &[

@@ -186,6 +186,48 @@ fn projectile_starts_down_a_lead_hole() {
     assert!(sim.energy_error().abs() < 0.01, "{}", sim.energy_error());
 }
 
+/// A pilot hole narrower than the projectile: its particles are left out (and `check` counts
+/// them out), and the nose starts at the face and meets the concrete round the hole.
+#[test]
+fn a_pilot_hole_leaves_the_nose_at_the_face() {
+    let hole = 0.02;
+    let diameter = 0.01;
+    let whole = Simulation::new(&scene::load(&case("smoke.toml"), &[]).unwrap()).unwrap();
+    let scene = scene::load(
+        &case("smoke.toml"),
+        &[
+            format!("target.lead_hole_depth={hole}"),
+            format!("target.lead_hole_diameter={diameter}"),
+        ],
+    )
+    .unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    let radius = 0.5 * diameter as f32;
+    let removed = (0..whole.particles.len())
+        .filter(|&i| whole.particles.r[i] < radius && whole.particles.z[i] > -hole as f32)
+        .count();
+    assert!(removed > 0);
+    assert_eq!(sim.particles.len(), whole.particles.len() - removed);
+    assert_eq!(
+        penetrate::estimate::footprint(&scene).particles,
+        sim.particles.len()
+    );
+    assert_eq!(sim.depth(), whole.depth());
+    let mut first_hit_depth = None;
+    for _ in 0..1500 {
+        sim.step().unwrap();
+        if sim.last_hits > 0 {
+            first_hit_depth = Some(sim.depth());
+            break;
+        }
+    }
+    // The ogive's flank meets the hole's wall before the tip reaches the hole's bottom: it
+    // reaches the first column outside the hole (r = 6.25 mm) 9.6 mm behind the tip (CRH 2,
+    // 20 mm), so the tip goes about that far down the hole first (10.8 mm measured).
+    let first = first_hit_depth.expect("the nose meets the concrete round the hole");
+    assert!(first > 0.4 * hole && first < hole, "{first}");
+}
+
 /// `max_damage_shank` and `max_plastic_strain_shank` read the elements that started behind the
 /// nose only: a failed, strained nose element leaves them at 0, a damaged, strained shank
 /// element sets them.
