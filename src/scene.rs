@@ -1195,26 +1195,25 @@ fn resolve(raw: RawScene, origin: &Path) -> Result<Scene, SceneError> {
         .is_some_and(|t| t.lead_hole_depth > 0.0 && start_depth == 0.0);
     projectile.nose_z = match (raw.projectile.nose_z, &wall) {
         (None, _) => default_nose_z,
-        (Some(z), None) if pilot => c.require(
-            (0.0..=MAX_START_GAP).contains(&z),
-            "projectile.nose_z",
-            z,
-            &format!(
-                "must be in [0, {MAX_START_GAP}] (m): the lead hole is narrower than the \
-                 projectile (target.lead_hole_diameter < projectile.diameter), so the nose \
-                 starts at or above the front face z = 0"
-            ),
-        )?,
         (Some(z), None) => c.require(
             (-start_depth..=MAX_START_GAP).contains(&z),
             "projectile.nose_z",
             z,
-            &format!(
-                "must be in [−target.lead_hole_depth, {MAX_START_GAP}] = [{}, {MAX_START_GAP}] \
-                 (m): the target's front face is z = 0, the nose may not start inside the \
-                 concrete (only down a lead hole), and f32 positions lose resolution far from it",
-                num(if start_depth > 0.0 { -start_depth } else { 0.0 })
-            ),
+            &if pilot {
+                format!(
+                    "must be in [0, {MAX_START_GAP}] (m): the lead hole is narrower than the \
+                     projectile (target.lead_hole_diameter < projectile.diameter), so the nose \
+                     starts at or above the front face z = 0"
+                )
+            } else {
+                format!(
+                    "must be in [−target.lead_hole_depth, {MAX_START_GAP}] = [{}, \
+                     {MAX_START_GAP}] (m): the target's front face is z = 0, the nose may not \
+                     start inside the concrete (only down a lead hole), and f32 positions lose \
+                     resolution far from it",
+                    num(if start_depth > 0.0 { -start_depth } else { 0.0 })
+                )
+            },
         )?,
         (Some(z), Some(w)) => c.require(
             z >= w.z && z - w.z <= MAX_START_GAP,

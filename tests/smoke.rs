@@ -159,9 +159,7 @@ fn projectile_starts_down_a_lead_hole() {
     let radius = 0.5 * scene.projectile.diameter as f32;
     let p = &sim.particles;
     assert!((0..p.len()).all(|i| p.r[i] >= radius || p.z[i] <= -hole as f32));
-    let removed = (0..whole.particles.len())
-        .filter(|&i| whole.particles.r[i] < radius && whole.particles.z[i] > -hole as f32)
-        .count();
+    let removed = in_hole(&whole, radius, hole);
     assert!(removed > 0);
     assert_eq!(p.len(), whole.particles.len() - removed);
     // `penetrate check` counts the same particles before anything is built.
@@ -186,6 +184,14 @@ fn projectile_starts_down_a_lead_hole() {
     assert!(sim.energy_error().abs() < 0.01, "{}", sim.energy_error());
 }
 
+/// Particles of an undrilled target whose centres lie in a hole `radius` wide and `hole` deep.
+fn in_hole(whole: &Simulation, radius: f32, hole: f64) -> usize {
+    let p = &whole.particles;
+    (0..p.len())
+        .filter(|&i| p.r[i] < radius && p.z[i] > -hole as f32)
+        .count()
+}
+
 /// A pilot hole narrower than the projectile: its particles are left out (and `check` counts
 /// them out), and the nose starts at the face and meets the concrete round the hole.
 #[test]
@@ -203,9 +209,7 @@ fn a_pilot_hole_leaves_the_nose_at_the_face() {
     .unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     let radius = 0.5 * diameter as f32;
-    let removed = (0..whole.particles.len())
-        .filter(|&i| whole.particles.r[i] < radius && whole.particles.z[i] > -hole as f32)
-        .count();
+    let removed = in_hole(&whole, radius, hole);
     assert!(removed > 0);
     assert_eq!(sim.particles.len(), whole.particles.len() - removed);
     assert_eq!(
