@@ -38,6 +38,8 @@ override DAMAGE: bool;
 
 // std::f32::consts::PI after rounding to f32.
 const FEM_PI: f32 = 3.141592653589793;
+// cpu::fem_stress::OPEN_RELATIVE_VOLUME (a test in gpu::fem checks the two agree).
+const OPEN_RELATIVE_VOLUME: f32 = 1.02;
 
 // fem_stress::Geometry: shape data at the current position, b_i = z_j − z_m, c_i = r_m − r_j.
 struct Geometry {
@@ -185,18 +187,22 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // EOS with the energy predicted from the old stress power, eq. (14).
     let e_old = energy[e];
     let e_pred = e_old + step_dt * rel_volume * old_power;
-    var p_new = steel_eos_pressure(u, mu, e_pred);
+    let p_eos = steel_eos_pressure(u, mu, e_pred);
+    var p_new = p_eos;
     if (is_failed) {
         // A failed element takes no tension.
         p_new = max(p_new, 0.0);
     }
+    // An open failed element (cpu::fem_stress::OPEN_RELATIVE_VOLUME) carries no stress and
+    // limits the step only by the time it would take to close.
+    let open = is_failed && rel_volume >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
 
     // Bulk viscosity on compression only: it spreads shocks, which only compression forms.
     let length = min_altitude(g);
     let k_t = steel_eos_bulk_tangent(u, mu);
     let c = sqrt((k_t + 4.0 / 3.0 * g_mod) / rho);
     var q = 0.0;
-    if (vol < 0.0) {
+    if (vol < 0.0 && !open) {
         q = rho * length * (u.q_quad * length * vol * vol - u.q_lin * c * vol);
     }
 
@@ -215,7 +221,17 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     write_nodal_forces(e, g, total_stress(s, p_new + q));
 
     let q_hat = u.q_quad * length * max(-vol, 0.0) + u.q_lin * c;
-    dt[e] = length / (q_hat + sqrt(q_hat * q_hat + c * c));
+    var dt_el = length / (q_hat + sqrt(q_hat * q_hat + c * c));
+    if (open) {
+        // Time to close: p_eos rises at k_t μ̇, μ̇ = −(1 + μ) tr ε̇.
+        let closing = k_t * (1.0 + mu) * -vol;
+        if (closing > 0.0) {
+            dt_el = max(dt_el, -p_eos / closing);
+        } else {
+            dt_el = bitcast<f32>(F32_MAX_BITS);
+        }
+    }
+    dt[e] = dt_el;
     plastic_work[e] = work;
     plastic_total[e] = plastic_total[e] + work;
 }

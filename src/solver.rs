@@ -267,12 +267,7 @@ impl Simulation {
         let gpu_err = |e: String| RunError::Unstable(format!("GPU: {e}"));
         let rb = g.advance().map_err(gpu_err)?;
         let dt = rb.dt;
-        if !(dt.is_finite() && dt > 1.0e-13) {
-            return Err(RunError::Unstable(format!(
-                "time step collapsed to {dt:e} s at step {}, t {:.4e} s",
-                self.step, self.time
-            )));
-        }
+        self.check_dt(dt)?;
         {
             let n = &mut self.projectile.nodes;
             n.r = rb.node_r;
@@ -406,13 +401,28 @@ impl Simulation {
             dt = dt.min(cpu::integrate::element_dt(&self.projectile.elements));
         }
         let dt = dt * self.scene.run.cfl as f32;
+        self.check_dt(dt)?;
+        Ok(dt)
+    }
+
+    /// The next step must be positive, finite and bounded: it collapses when the mesh or the
+    /// lattice does, and nothing bounds it when every element has failed and opened
+    /// (`cpu::fem_stress::OPEN_RELATIVE_VOLUME`) and there is no target.
+    fn check_dt(&self, dt: f32) -> Result<(), RunError> {
         if !(dt.is_finite() && dt > 1.0e-13) {
             return Err(RunError::Unstable(format!(
                 "time step collapsed to {dt:e} s at step {}, t {:.4e} s",
                 self.step, self.time
             )));
         }
-        Ok(dt)
+        if dt > 1.0 {
+            return Err(RunError::Unstable(format!(
+                "nothing limits the time step at step {}, t {:.4e} s: every element of the \
+                 projectile has failed and opened, and there is no target",
+                self.step, self.time
+            )));
+        }
+        Ok(())
     }
 
     /// One explicit step: velocities and positions, contact, then rates, stresses and forces at

@@ -297,6 +297,101 @@ fn depth_ignores_nodes_of_failed_elements_only() {
     assert!((sim.projectile_extent().0 - (extent.0 + 0.3)).abs() < 1e-6);
 }
 
+/// A failed element stretched open (beyond `OPEN_RELATIVE_VOLUME` of its reference volume)
+/// exerts no force, not even the bulk viscosity of a compression, and limits the step only by
+/// the time it would take to close: not at all at rest, and under a compression by more than
+/// the step of a closed element. A failed element less open, and an intact one as open, keep
+/// their forces and the usual step.
+#[test]
+fn an_open_failed_element_exerts_nothing_and_sets_no_step() {
+    use penetrate::cpu::fem_stress::{self, Geometry, OPEN_RELATIVE_VOLUME};
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let sim = Simulation::new(&scene).unwrap();
+    let at_rest = sim.projectile.nodes.clone();
+    let mut squeezed = at_rest.clone();
+    let z_mid = squeezed.z.iter().sum::<f32>() / squeezed.len() as f32;
+    // A uniform compression at 10⁴ s⁻¹: every element's volume shrinks.
+    for i in 0..squeezed.len() {
+        squeezed.vr[i] = -1.0e4 * squeezed.r[i];
+        squeezed.vz[i] = -1.0e4 * (squeezed.z[i] - z_mid);
+    }
+    let (open, ajar, intact) = (0, 1, 2);
+    let mut before = sim.projectile.elements.clone();
+    for (k, factor) in [
+        (open, OPEN_RELATIVE_VOLUME + 0.1),
+        (ajar, 0.5 * (1.0 + OPEN_RELATIVE_VOLUME)),
+        (intact, OPEN_RELATIVE_VOLUME + 0.1),
+    ] {
+        let g = Geometry::new(&before.nodes[k], &at_rest.r, &at_rest.z);
+        before.volume0[k] = g.volume() / factor;
+    }
+    for k in [open, ajar] {
+        before.failed[k] = 1;
+        before.damage[k] = 1.0;
+    }
+    let mut rest = before.clone();
+    fem_stress::run(&mut rest, &at_rest, &sim.fem, sim.dt).unwrap();
+    assert_eq!(rest.force[open], [0.0; 6]);
+    assert_eq!(rest.dt[open], f32::MAX);
+
+    let mut e = before.clone();
+    fem_stress::run(&mut e, &squeezed, &sim.fem, sim.dt).unwrap();
+    assert_eq!(e.force[open], [0.0; 6]);
+    assert_eq!(e.p[open], 0.0);
+    for k in [ajar, intact] {
+        assert!(
+            e.dt[k] > 0.0 && e.dt[k] < 1.0e-5,
+            "element {k}: step {:e}",
+            e.dt[k]
+        );
+        assert!(
+            e.force[k].iter().any(|&f| f != 0.0),
+            "element {k}: no force"
+        );
+    }
+    assert!(
+        e.dt[open] > e.dt[ajar] && e.dt[open] < 1.0e-3,
+        "open: step {:e}",
+        e.dt[open]
+    );
+    // The ajar element's force is its bulk viscosity alone: the pressure is cut off.
+    assert_eq!(e.p[ajar], 0.0);
+}
+
+/// A bar with no target, at rest, whose every element has failed and opened has nothing left
+/// to limit its step: the run stops and says so, rather than take a step of 10³⁸ s.
+#[test]
+fn nothing_left_to_limit_the_step_stops_the_run() {
+    use penetrate::cpu::fem_stress::{Geometry, OPEN_RELATIVE_VOLUME};
+    let scene = scene::load(&case("taylor-4340-208.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    sim.step().unwrap();
+    // At rest and unloaded, so that no element is closing.
+    let nodes = &mut sim.projectile.nodes;
+    for field in [&mut nodes.vr, &mut nodes.vz, &mut nodes.fr, &mut nodes.fz] {
+        field.iter_mut().for_each(|v| *v = 0.0);
+    }
+    let n = sim.projectile.nodes.clone();
+    let e = &mut sim.projectile.elements;
+    for k in 0..e.len() {
+        let v = Geometry::new(&e.nodes[k], &n.r, &n.z).volume();
+        e.volume0[k] = v / (OPEN_RELATIVE_VOLUME + 0.5);
+        e.failed[k] = 1;
+    }
+    let mut stopped = None;
+    for _ in 0..3 {
+        if let Err(err) = sim.step() {
+            stopped = Some(err.to_string());
+            break;
+        }
+    }
+    let message = stopped.expect("the run went on");
+    assert!(
+        message.contains("nothing limits the time step"),
+        "{message}"
+    );
+}
+
 /// Bad input on the command line: exit code 2, a one-line message naming the file, no panic.
 #[test]
 fn cli_rejects_bad_input_without_panicking() {

@@ -252,6 +252,17 @@ pub fn run(
     }
 }
 
+/// A failed element at least this many times its reference volume, whose EOS pressure is not
+/// positive, is open: a crack, not a body. It carries no stress at all (no pressure, no deviator,
+/// no bulk viscosity) and so exerts no force. It limits the time step only by the time it would
+/// take to close (its EOS pressure to reach zero) at its present rate of compression; it keeps
+/// its mass, and takes compressive pressure again once closed. Closer to its reference volume a
+/// failed element is as before (tension cut off, viscosity on compression, the usual step),
+/// so that one step cannot take an element from open to loaded. Without this rule failed
+/// elements sheared and stretched into slivers (a failed element resists no shear) set a step
+/// several times smaller than the body's (README, "Choices").
+pub const OPEN_RELATIVE_VOLUME: f32 = 1.02;
+
 /// The state one element carries from step to step.
 #[derive(Clone, Copy, Debug)]
 pub struct ElementState {
@@ -351,16 +362,15 @@ pub fn update_element(
     // EOS with the energy predicted to the end of the step from the old stress power
     // (explicit), eq. (14).
     let e_pred = st.energy + dt * rel_volume * old.power(&d);
-    let mut p = steel_eos::pressure(&m.eos, mu, e_pred);
-    if st.failed {
-        p = p.max(0.0);
-    }
+    let p_eos = steel_eos::pressure(&m.eos, mu, e_pred);
+    let p = if st.failed { p_eos.max(0.0) } else { p_eos };
+    let open = st.failed && rel_volume >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
 
     // Bulk viscosity on compression only.
     let length = g.min_altitude();
     let k_t = steel_eos::bulk_tangent(&m.eos, mu);
     let c = ((k_t + 4.0 / 3.0 * g_mod) / rho).sqrt();
-    let q = if vol < 0.0 {
+    let q = if vol < 0.0 && !open {
         rho * length * (m.q_quad * length * vol * vol - m.q_lin * c * vol)
     } else {
         0.0
@@ -375,7 +385,16 @@ pub fn update_element(
     let new = total_stress(&s, p + q);
 
     let q_hat = m.q_quad * length * (-vol).max(0.0) + m.q_lin * c;
-    let dt_el = length / (q_hat + (q_hat * q_hat + c * c).sqrt());
+    let mut dt_el = length / (q_hat + (q_hat * q_hat + c * c).sqrt());
+    if open {
+        // Time to close: p_eos rises at k_t μ̇, μ̇ = −(1 + μ) tr ε̇.
+        let closing = k_t * (1.0 + mu) * -vol;
+        dt_el = if closing > 0.0 {
+            dt_el.max(-p_eos / closing)
+        } else {
+            f32::MAX
+        };
+    }
     Some(ElementOutput {
         force: nodal_forces(&g, &new),
         dt: dt_el,
