@@ -564,8 +564,8 @@ impl Simulation {
     }
 
     /// Penetration depth: how far the nose tip is beyond the original front face z = 0 (m).
-    /// The tip is the deepest node still held by an element that has not failed: a node whose
-    /// elements have all failed is debris, free to run ahead of the body, and is not the nose.
+    /// The tip is the deepest node of the body ([`Simulation::attached_nodes`]): debris, free
+    /// to run ahead of the body, is not the nose.
     pub fn depth(&self) -> f64 {
         let z_min = self
             .attached_nodes()
@@ -596,19 +596,19 @@ impl Simulation {
         ((z_max - z_min) as f64, r_max as f64)
     }
 
-    /// The projectile's nodes held by at least one element that has not failed; every node if
-    /// every element has failed (nothing is left to tell the body from its debris).
+    /// The nodes of the projectile's body: the largest set (by reference volume) of elements
+    /// that have not failed, joined through shared nodes. A node whose elements have all failed
+    /// is debris, and so is a piece still intact but held to the body only by failed elements
+    /// (a broken-off tip). Every node if every element has failed (nothing is left to tell the
+    /// body from its debris).
     fn attached_nodes(&self) -> impl Iterator<Item = usize> + '_ {
-        let nodes = &self.projectile.nodes;
-        let failed = &self.projectile.elements.failed;
-        let held = |i: usize| {
-            let refs = nodes.elem_offsets[i] as usize..nodes.elem_offsets[i + 1] as usize;
-            nodes.elem_refs[refs]
-                .iter()
-                .any(|&e| failed[e as usize / 3] == 0)
-        };
-        let any_held = failed.contains(&0);
-        (0..nodes.len()).filter(move |&i| !any_held || held(i))
+        let body = body_nodes(
+            &self.projectile.elements.nodes,
+            &self.projectile.elements.failed,
+            &self.projectile.elements.volume0,
+            self.projectile.nodes.len(),
+        );
+        (0..self.projectile.nodes.len()).filter(move |&i| body[i])
     }
 
     pub fn max_damage(&self) -> f64 {
@@ -842,6 +842,8 @@ impl Simulation {
                     ("speed", &speed),
                     ("v_r", &p.vr),
                     ("v_z", &p.vz),
+                    ("energy", &p.energy),
+                    ("strain_energy", &p.strain_energy),
                 ],
                 &[],
             )?;
@@ -853,6 +855,7 @@ impl Simulation {
         let seq: Vec<f32> = (0..e.len())
             .map(|k| cpu::deviator::von_mises(&[e.s_rr[k], e.s_zz[k], e.s_rz[k], e.s_tt[k]]))
             .collect();
+        let failed: Vec<f32> = e.failed.iter().map(|&f| f as f32).collect();
         vtk::write_vtu(
             &dir.join(&name),
             &n.r,
@@ -861,6 +864,7 @@ impl Simulation {
             &[("v_r", &n.vr), ("v_z", &n.vz)],
             &[
                 ("damage", &e.damage),
+                ("failed", &failed),
                 ("plastic_strain", &e.eps_p),
                 ("pressure", &e.p),
                 ("von_mises", &seq),
@@ -1149,4 +1153,46 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let json = serde_json::to_string_pretty(&summary).map_err(|e| RunError::Io(e.to_string()))?;
     std::fs::write(opts.out.join("summary.json"), json + "\n").map_err(io)?;
     Ok(RunOutcome { summary, ok })
+}
+
+/// Which nodes belong to the body: the largest set, by reference volume, of elements that have
+/// not failed and are joined through shared nodes (union–find over the nodes). Every node when
+/// every element has failed.
+fn body_nodes(conn: &[[u32; 3]], failed: &[u32], volume0: &[f32], n_nodes: usize) -> Vec<bool> {
+    if !failed.contains(&0) {
+        return vec![true; n_nodes];
+    }
+    let mut parent: Vec<usize> = (0..n_nodes).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let intact = || (0..conn.len()).filter(|&e| failed[e] == 0);
+    for e in intact() {
+        let a = root(&mut parent, conn[e][0] as usize);
+        for &n in &conn[e][1..] {
+            let b = root(&mut parent, n as usize);
+            parent[b] = a;
+        }
+    }
+    let mut volume = vec![0.0f64; n_nodes];
+    for e in intact() {
+        let a = root(&mut parent, conn[e][0] as usize);
+        volume[a] += volume0[e] as f64;
+    }
+    let body = (0..n_nodes)
+        .max_by(|&a, &b| volume[a].total_cmp(&volume[b]))
+        .unwrap_or(0);
+    let mut held = vec![false; n_nodes];
+    for e in intact() {
+        for &n in &conn[e] {
+            held[n as usize] = true;
+        }
+    }
+    (0..n_nodes)
+        .map(|i| held[i] && root(&mut parent, i) == body)
+        .collect()
 }
