@@ -1121,7 +1121,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             let row = sim.history_row();
             history.write(&row).map_err(io)?;
             next_history += scene.run.history_interval;
-            progress.update(sim.time, sim.step, sim.depth(), sim.projectile_velocity());
+            progress.update(sim.time, sim.step, row.depth, row.velocity);
             if let Err(e) = sim.energy_guard(row.energy_error) {
                 break (e.to_string(), String::new(), false);
             }

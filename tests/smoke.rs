@@ -263,21 +263,28 @@ fn shank_damage_leaves_the_nose_out() {
     assert_eq!(maxima(&sim), [(1.0, 0.5), (2.0, 0.25)]);
 }
 
-/// Depth and extent follow the body, not its debris: a nose node whose elements have all failed
-/// and which has run 0.3 m ahead (as a light nose node did in a 800 m/s shot) moves neither;
-/// the same node still held by one element that has not failed moves both.
-#[test]
-fn depth_ignores_nodes_of_failed_elements_only() {
+/// The smoke scene 50 steps in, and its deepest projectile node.
+fn smoke_after_50_steps() -> (scene::Scene, Simulation, usize) {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     for _ in 0..50 {
         sim.step().unwrap();
     }
-    let (depth, extent) = (sim.depth(), sim.projectile_extent());
     let n = &sim.projectile.nodes;
     let tip = (0..n.len())
         .min_by(|&a, &b| n.z[a].total_cmp(&n.z[b]))
         .unwrap();
+    (scene, sim, tip)
+}
+
+/// Depth and extent follow the body, not its debris: a nose node whose elements have all failed
+/// and which has run 0.3 m ahead (as a light nose node did in a 800 m/s shot) moves neither;
+/// the same node still held by one element that has not failed moves both.
+#[test]
+fn depth_ignores_nodes_of_failed_elements_only() {
+    let (scene, mut sim, tip) = smoke_after_50_steps();
+    let (depth, extent) = (sim.depth(), sim.projectile_extent());
+    let n = &sim.projectile.nodes;
     let refs: Vec<usize> = n.elem_refs
         [n.elem_offsets[tip] as usize..n.elem_offsets[tip + 1] as usize]
         .iter()
@@ -397,16 +404,9 @@ fn nothing_left_to_limit_the_step_stops_the_run() {
 /// moves neither the depth nor the extent.
 #[test]
 fn depth_ignores_an_intact_piece_broken_off() {
-    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
-    for _ in 0..50 {
-        sim.step().unwrap();
-    }
+    let (scene, mut sim, tip) = smoke_after_50_steps();
     let (depth, extent) = (sim.depth(), sim.projectile_extent());
     let n = &sim.projectile.nodes;
-    let tip = (0..n.len())
-        .min_by(|&a, &b| n.z[a].total_cmp(&n.z[b]))
-        .unwrap();
     let piece = n.elem_refs[n.elem_offsets[tip] as usize] as usize / 3;
     let corners = sim.projectile.elements.nodes[piece];
     // Fail every other element touching the piece's corners.
