@@ -23,6 +23,7 @@
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
 //!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara"),
+//!   `velocity_filter` ("none" | "linear"),
 //!   `lead_hole_depth` (0), `lead_hole_diameter` (projectile.diameter; narrower: a pilot hole,
 //!   the nose starts at the face)
 //! - `[target.concrete]` (optional) any [`Hjc`] field but `density` and `fc`, over
@@ -182,6 +183,8 @@ pub struct TargetSpec {
     pub viscosity_beta: f64,
     /// What scales the viscosity down where the flow shears rather than compresses.
     pub viscosity_switch: ViscositySwitch,
+    /// Which velocity the concrete's strain rate is taken from.
+    pub velocity_filter: VelocityFilter,
     /// A hole drilled into the front face along the axis (m; 0: none): the particles whose
     /// centres lie inside it are left out, and the nose starts at its bottom by default if the
     /// projectile fits in it; a pilot hole narrower than the projectile leaves it at the face.
@@ -218,6 +221,27 @@ impl ViscositySwitch {
         match self {
             ViscositySwitch::None => "none",
             ViscositySwitch::Balsara => "balsara",
+        }
+    }
+}
+
+/// `target.velocity_filter`: the velocity field whose gradient updates the concrete's stress
+/// and density (`cpu::sph_rates`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VelocityFilter {
+    /// The particles' own velocities.
+    None,
+    /// Each particle's velocity moved by the kernel-weighted mean of its neighbours' departures
+    /// from the linear field fitted at it: exact for a linear field, particle-scale scatter
+    /// averaged out.
+    Linear,
+}
+
+impl VelocityFilter {
+    pub fn name(self) -> &'static str {
+        match self {
+            VelocityFilter::None => "none",
+            VelocityFilter::Linear => "linear",
         }
     }
 }
@@ -910,6 +934,7 @@ struct RawTarget {
     viscosity_alpha: Option<f64>,
     viscosity_beta: Option<f64>,
     viscosity_switch: Option<String>,
+    velocity_filter: Option<String>,
     lead_hole_depth: Option<f64>,
     lead_hole_diameter: Option<f64>,
     concrete: Option<RawHjc>,
@@ -1625,6 +1650,13 @@ fn resolve_target(
             _ => ViscositySwitch::Balsara,
         },
     };
+    let velocity_filter = match t.velocity_filter.as_deref() {
+        None => VelocityFilter::None,
+        Some(name) => match c.choice("target.velocity_filter", name, &["none", "linear"])? {
+            "none" => VelocityFilter::None,
+            _ => VelocityFilter::Linear,
+        },
+    };
     c.require(
         (5.0e6..=200.0e6).contains(&fc),
         "target.fc",
@@ -1675,6 +1707,7 @@ fn resolve_target(
         viscosity_alpha,
         viscosity_beta,
         viscosity_switch,
+        velocity_filter,
         lead_hole_depth,
         lead_hole_diameter,
         concrete: resolve_hjc(c, fc, density, t.concrete.as_ref())?,
@@ -1862,6 +1895,11 @@ impl Scene {
                 "target.viscosity_switch",
                 t.viscosity_switch.name(),
                 "\"none\" | \"balsara\"",
+            );
+            out.text(
+                "target.velocity_filter",
+                t.velocity_filter.name(),
+                "\"none\" | \"linear\"",
             );
             out.line("target.lead_hole_depth", num(t.lead_hole_depth), "m");
             out.line("target.lead_hole_diameter", num(t.lead_hole_diameter), "m");

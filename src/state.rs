@@ -135,6 +135,9 @@ pub struct SphParams {
     pub beta: f32,
     /// Scale Π by the Balsara switch (`target.viscosity_switch = "balsara"`).
     pub balsara: bool,
+    /// Take L from the filtered velocity (`target.velocity_filter = "linear"`,
+    /// `cpu::sph_rates`).
+    pub velocity_filter: bool,
     /// Gray–Monaghan artificial stress factor ε (0 = off) and exponent n.
     pub art_stress_eps: f32,
     pub art_stress_n: f32,
@@ -153,6 +156,7 @@ impl SphParams {
             alpha: spec.viscosity_alpha as f32,
             beta: spec.viscosity_beta as f32,
             balsara: spec.viscosity_switch == crate::scene::ViscositySwitch::Balsara,
+            velocity_filter: spec.velocity_filter == crate::scene::VelocityFilter::Linear,
             art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },
             art_stress_n: 4.0,
             w_spacing: kernel.w(spec.spacing as f32),

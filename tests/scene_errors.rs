@@ -295,6 +295,11 @@ fn bad_choices_and_conflicting_keys() {
         &["target.viscosity_switch", "\"none\", \"balsara\""],
     );
     refused(
+        &smoke_text(),
+        &["target.velocity_filter=\"xsph\""],
+        &["target.velocity_filter", "\"none\", \"linear\""],
+    );
+    refused(
         &smoke_with("shape = \"ogive\"", "shape = \"cylinder\""),
         &[],
         &["projectile.crh", "cylinder has no crh"],

@@ -6,6 +6,11 @@
 //! inverse of `M = Σ_j (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇_i W_ij` (exact for linear fields) where M is
 //! well conditioned; `ρ̇ = −ρ (L_rr + L_zz + v_r/r)`. With the Balsara switch on it also writes
 //! each particle's factor on the viscosity from L (see [`balsara`]).
+//!
+//! With the velocity filter on (`target.velocity_filter = "linear"`, [`filtered_velocity`]) L
+//! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
+//! of its neighbours' departures from the linear field that a first L fits: a linear field
+//! passes unchanged, particle-scale scatter is averaged out (README, "Choices").
 
 use rayon::prelude::*;
 
@@ -54,6 +59,21 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *a = *mt / rho[i];
         });
     let (r, z, vr, vz, rho, area, sound) = (&*r, &*z, &*vr, &*vz, &*rho, &*area, &*sound);
+    let field = Field {
+        r,
+        z,
+        area,
+        grid,
+        kernel,
+        support,
+    };
+    let filtered;
+    let (vr, vz): (&[f32], &[f32]) = if params.velocity_filter {
+        filtered = filtered_velocity(&field, vr, vz);
+        (&filtered.0, &filtered.1)
+    } else {
+        (vr, vz)
+    };
     l_rr.par_iter_mut()
         .zip(l_rz.par_iter_mut())
         .zip(l_zr.par_iter_mut())
@@ -62,26 +82,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         .zip(visc_switch.par_iter_mut())
         .enumerate()
         .for_each(|(i, (((((lrr, lrz), lzr), lzz), dr_out), f))| {
-            let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
-            let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
-            for_each_neighbour(grid, r, z, i, support, |nb| {
-                let j = nb.j;
-                let area = area[j];
-                let gw = kernel.grad(nb.dr, nb.dz, nb.dist);
-                let vrj = if nb.mirror { -vr[j] } else { vr[j] };
-                let dvr = vrj - vr[i];
-                let dvz = vz[j] - vz[i];
-                // x_j − x_i = −(dr, dz)
-                g[0] += area * dvr * gw[0];
-                g[1] += area * dvr * gw[1];
-                g[2] += area * dvz * gw[0];
-                g[3] += area * dvz * gw[1];
-                m[0] -= area * nb.dr * gw[0];
-                m[1] -= area * nb.dr * gw[1];
-                m[2] -= area * nb.dz * gw[0];
-                m[3] -= area * nb.dz * gw[1];
-            });
-            let l = correct(g, m);
+            let l = field.gradient(i, vr, vz);
             *lrr = l[0];
             *lrz = l[1];
             *lzr = l[2];
@@ -92,6 +93,71 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 *f = balsara(div, l[1] - l[2], sound[i], h);
             }
         });
+}
+
+/// What a gather over the particles reads besides the field gathered.
+struct Field<'a> {
+    r: &'a [f32],
+    z: &'a [f32],
+    area: &'a [f32],
+    grid: &'a CellGrid,
+    kernel: &'a crate::kernel::Kernel,
+    support: f32,
+}
+
+impl Field<'_> {
+    /// L = G M⁻¹ at particle i of the velocity field (vr, vz).
+    fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> [f32; 4] {
+        let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
+        let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
+        for_each_neighbour(self.grid, self.r, self.z, i, self.support, |nb| {
+            let j = nb.j;
+            let area = self.area[j];
+            let gw = self.kernel.grad(nb.dr, nb.dz, nb.dist);
+            let vrj = if nb.mirror { -vr[j] } else { vr[j] };
+            let dvr = vrj - vr[i];
+            let dvz = vz[j] - vz[i];
+            // x_j − x_i = −(dr, dz)
+            g[0] += area * dvr * gw[0];
+            g[1] += area * dvr * gw[1];
+            g[2] += area * dvz * gw[0];
+            g[3] += area * dvz * gw[1];
+            m[0] -= area * nb.dr * gw[0];
+            m[1] -= area * nb.dr * gw[1];
+            m[2] -= area * nb.dz * gw[0];
+            m[3] -= area * nb.dz * gw[1];
+        });
+        correct(g, m)
+    }
+}
+
+/// The filtered velocity of every particle: `v̄_i = v_i + Σ_j A_j W_ij (v_j − v_i − L_i (x_j −
+/// x_i)) / Σ_j A_j W_ij`, the sums over the neighbours and axis ghosts and i itself (whose term
+/// is zero), L_i the corrected gradient of the particles' own velocities, A = m̃/ρ. Where the
+/// field is linear and L exact, v̄ = v; a particle's departure from its neighbourhood's linear
+/// field, the scatter a kernel-scale gradient reads as δv/Δ, is replaced by the kernel's mean
+/// departure.
+fn filtered_velocity(field: &Field, vr: &[f32], vz: &[f32]) -> (Vec<f32>, Vec<f32>) {
+    let kernel = field.kernel;
+    (0..vr.len())
+        .into_par_iter()
+        .map(|i| {
+            let l = field.gradient(i, vr, vz);
+            let mut weight = kernel.w(0.0) * field.area[i];
+            let (mut sum_r, mut sum_z) = (0.0f32, 0.0f32);
+            for_each_neighbour(field.grid, field.r, field.z, i, field.support, |nb| {
+                let w = kernel.w(nb.dist) * field.area[nb.j];
+                let vrj = if nb.mirror { -vr[nb.j] } else { vr[nb.j] };
+                // x_j − x_i = −(dr, dz)
+                let dep_r = vrj - vr[i] + l[0] * nb.dr + l[1] * nb.dz;
+                let dep_z = vz[nb.j] - vz[i] + l[2] * nb.dr + l[3] * nb.dz;
+                weight += w;
+                sum_r += w * dep_r;
+                sum_z += w * dep_z;
+            });
+            (vr[i] + sum_r / weight, vz[i] + sum_z / weight)
+        })
+        .unzip()
 }
 
 /// Balsara's (1995) factor on the viscosity, `|∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h)`: near 1 where

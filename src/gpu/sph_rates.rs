@@ -3,20 +3,39 @@
 use super::neighbours::GpuGrid;
 use super::state::GpuParticles;
 use super::{source, Gpu, Kernel, Slot};
+use crate::state::SphParams;
 
 /// Bindings of shaders/sph_rates.wgsl: SphUniform, the grid (GridInfo, cell_start, sorted),
 /// kin and the lists, mass, rho and sound, then m_tilde and area (written by `areas`, read by
 /// `gradient`) and the 6 outputs of `gradient`.
 const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 9), (Slot::ReadWrite, 8)];
 
+/// Bindings of shaders/sph_filter.wgsl: SphUniform, the grid and lists with kin, area and L,
+/// then the filtered kinematics.
+const FILTER_SLOTS: &[(Slot, usize)] =
+    &[(Slot::Uniform, 1), (Slot::Read, 11), (Slot::ReadWrite, 1)];
+
 /// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
 /// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz and drho, and
-/// visc_switch when the Balsara switch is on.
+/// visc_switch when the Balsara switch is on. With the velocity filter, `gradient` runs twice:
+/// first on the particles' velocities, then, after `sph_filter` has written the filtered
+/// velocities in kin's layout, on those.
 pub struct SphRatesPass {
     areas: Kernel,
     gradient: Kernel,
     bind: wgpu::BindGroup,
+    filter: Option<Filter>,
     n: u32,
+}
+
+/// The velocity filter's kernel, its bindings, and the rates' bindings with the filtered
+/// kinematics in kin's place.
+struct Filter {
+    kernel: Kernel,
+    bind: wgpu::BindGroup,
+    rates_bind: wgpu::BindGroup,
+    /// Kept alive for the bind groups.
+    _kin_filtered: wgpu::Buffer,
 }
 
 impl SphRatesPass {
@@ -25,7 +44,7 @@ impl SphRatesPass {
         particles: &GpuParticles,
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
-        balsara: bool,
+        params: &SphParams,
     ) -> Result<SphRatesPass, String> {
         let src = source(&[
             include_str!("../../shaders/params.wgsl"),
@@ -33,39 +52,79 @@ impl SphRatesPass {
             include_str!("../../shaders/neighbour_loop.wgsl"),
             include_str!("../../shaders/sph_rates.wgsl"),
         ]);
-        let switch = [("BALSARA", f64::from(u8::from(balsara)))];
+        let switch = [("BALSARA", f64::from(u8::from(params.balsara)))];
         let areas = gpu.kernel_with("sph_rates.areas", &src, "areas", SLOTS, &switch)?;
         let gradient = gpu.kernel_with("sph_rates.gradient", &src, "gradient", SLOTS, &switch)?;
         let p = particles;
         let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         // One layout for both entry points, so one bind group serves both.
-        let bind = areas.bind(
-            gpu,
-            &[
-                sph_uniform,
-                info,
-                cell_start,
-                sorted,
-                kin,
-                nbr,
-                nbr_count,
-                &p.mass,
-                &p.rho,
-                &p.sound,
-                &p.m_tilde,
-                &p.area,
-                &p.l_rr,
-                &p.l_rz,
-                &p.l_zr,
-                &p.l_zz,
-                &p.drho,
-                &p.visc_switch,
-            ],
-        );
+        let rates_bind = |kin: &wgpu::Buffer| {
+            areas.bind(
+                gpu,
+                &[
+                    sph_uniform,
+                    info,
+                    cell_start,
+                    sorted,
+                    kin,
+                    nbr,
+                    nbr_count,
+                    &p.mass,
+                    &p.rho,
+                    &p.sound,
+                    &p.m_tilde,
+                    &p.area,
+                    &p.l_rr,
+                    &p.l_rz,
+                    &p.l_zr,
+                    &p.l_zz,
+                    &p.drho,
+                    &p.visc_switch,
+                ],
+            )
+        };
+        let bind = rates_bind(kin);
+        let filter = if params.velocity_filter {
+            let src = source(&[
+                include_str!("../../shaders/params.wgsl"),
+                include_str!("../../shaders/grid.wgsl"),
+                include_str!("../../shaders/neighbour_loop.wgsl"),
+                include_str!("../../shaders/sph_filter.wgsl"),
+            ]);
+            let kernel = gpu.kernel("sph_filter", &src, "filter_velocity", FILTER_SLOTS)?;
+            let kin_filtered = gpu.zeros::<[f32; 4]>("filtered kinematics", p.len);
+            let bind = kernel.bind(
+                gpu,
+                &[
+                    sph_uniform,
+                    info,
+                    cell_start,
+                    sorted,
+                    kin,
+                    nbr,
+                    nbr_count,
+                    &p.area,
+                    &p.l_rr,
+                    &p.l_rz,
+                    &p.l_zr,
+                    &p.l_zz,
+                    &kin_filtered,
+                ],
+            );
+            Some(Filter {
+                kernel,
+                bind,
+                rates_bind: rates_bind(&kin_filtered),
+                _kin_filtered: kin_filtered,
+            })
+        } else {
+            None
+        };
         Ok(SphRatesPass {
             areas,
             gradient,
             bind,
+            filter,
             n: p.len as u32,
         })
     }
@@ -73,6 +132,10 @@ impl SphRatesPass {
     pub fn record(&self, pass: &mut wgpu::ComputePass) {
         self.areas.dispatch(pass, &self.bind, self.n);
         self.gradient.dispatch(pass, &self.bind, self.n);
+        if let Some(f) = &self.filter {
+            f.kernel.dispatch(pass, &f.bind, self.n);
+            self.gradient.dispatch(pass, &f.rates_bind, self.n);
+        }
     }
 }
 
@@ -113,7 +176,7 @@ mod tests {
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
-        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, sph.balsara).unwrap();
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -176,6 +239,27 @@ mod tests {
         compare(&["target.viscosity_switch=\"balsara\"".into()], true);
     }
 
+    /// With the velocity filter (two `gradient` dispatches around `sph_filter`), on the lists
+    /// and on the grid; the filter must change the CPU's gradients on this state, or the
+    /// comparison would not test it.
+    #[test]
+    fn sph_rates_with_velocity_filter_match_cpu() {
+        let filter = ["target.velocity_filter=\"linear\"".to_string()];
+        let sim = smoke(SMOKE_STEPS, &filter);
+        let sph = sim.sph.expect("smoke has a target");
+        assert!(sph.velocity_filter);
+        let (mut raw, mut filtered) = (sim.particles.clone(), sim.particles.clone());
+        let mut plain = sph;
+        plain.velocity_filter = false;
+        crate::cpu::sph_rates::run(&mut raw, &sim.grid, &plain);
+        crate::cpu::sph_rates::run(&mut filtered, &sim.grid, &sph);
+        let change = field_error(&filtered.l_zz, &raw.l_zz);
+        eprintln!("velocity filter: L_zz moves by {change:e} of its scale");
+        assert!(change > 1.0e-3, "the filter changes nothing here");
+        compare(&filter, true);
+        compare(&filter, false);
+    }
+
     /// Lists built with a skin and then used after the particles have moved (less than half
     /// the skin) still give the CPU's rates at the new positions, and the displacement watch
     /// measures the move.
@@ -218,7 +302,7 @@ mod tests {
         let mut cpu = now.clone();
         crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
         gp.write(&gpu, &now);
-        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, sph.balsara).unwrap();
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph).unwrap();
         run_once(&gpu, |p| {
             neighbours.record(p, false);
             neighbours.record_displacement(p);

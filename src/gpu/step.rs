@@ -221,7 +221,7 @@ impl GpuStep {
                     &particles,
                     &grid,
                     &sph_uniform,
-                    params.balsara,
+                    params,
                 )?;
                 let concrete =
                     super::concrete::ConcretePass::new(&gpu, &particles, &sph_uniform, &clock)?;
