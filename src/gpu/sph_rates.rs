@@ -46,71 +46,45 @@ impl SphRatesPass {
         sph_uniform: &wgpu::Buffer,
         params: &SphParams,
     ) -> Result<SphRatesPass, String> {
-        let src = source(&[
-            include_str!("../../shaders/params.wgsl"),
-            include_str!("../../shaders/grid.wgsl"),
-            include_str!("../../shaders/neighbour_loop.wgsl"),
-            include_str!("../../shaders/sph_rates.wgsl"),
-        ]);
+        // Both passes gather over the neighbour lists.
+        let gather_source = |pass: &str| {
+            source(&[
+                include_str!("../../shaders/params.wgsl"),
+                include_str!("../../shaders/grid.wgsl"),
+                include_str!("../../shaders/neighbour_loop.wgsl"),
+                pass,
+            ])
+        };
+        let src = gather_source(include_str!("../../shaders/sph_rates.wgsl"));
         let switch = [("BALSARA", f64::from(u8::from(params.balsara)))];
         let areas = gpu.kernel_with("sph_rates.areas", &src, "areas", SLOTS, &switch)?;
         let gradient = gpu.kernel_with("sph_rates.gradient", &src, "gradient", SLOTS, &switch)?;
         let p = particles;
-        let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
+        let kin = grid.walk_bindings()[3];
         // One layout for both entry points, so one bind group serves both.
         let rates_bind = |kin: &wgpu::Buffer| {
-            areas.bind(
-                gpu,
-                &[
-                    sph_uniform,
-                    info,
-                    cell_start,
-                    sorted,
-                    kin,
-                    nbr,
-                    nbr_count,
-                    &p.mass,
-                    &p.rho,
-                    &p.sound,
-                    &p.m_tilde,
-                    &p.area,
-                    &p.l_rr,
-                    &p.l_rz,
-                    &p.l_zr,
-                    &p.l_zz,
-                    &p.drho,
-                    &p.visc_switch,
-                ],
-            )
+            let own = [
+                &p.mass,
+                &p.rho,
+                &p.sound,
+                &p.m_tilde,
+                &p.area,
+                &p.l_rr,
+                &p.l_rz,
+                &p.l_zr,
+                &p.l_zz,
+                &p.drho,
+                &p.visc_switch,
+            ];
+            areas.bind(gpu, &[&walk(sph_uniform, grid, kin)[..], &own].concat())
         };
         let bind = rates_bind(kin);
         let filter = if params.velocity_filter {
-            let src = source(&[
-                include_str!("../../shaders/params.wgsl"),
-                include_str!("../../shaders/grid.wgsl"),
-                include_str!("../../shaders/neighbour_loop.wgsl"),
-                include_str!("../../shaders/sph_filter.wgsl"),
-            ]);
+            let src = gather_source(include_str!("../../shaders/sph_filter.wgsl"));
             let kernel = gpu.kernel("sph_filter", &src, "filter_velocity", FILTER_SLOTS)?;
             let kin_filtered = gpu.zeros::<[f32; 4]>("filtered kinematics", p.len);
-            let bind = kernel.bind(
-                gpu,
-                &[
-                    sph_uniform,
-                    info,
-                    cell_start,
-                    sorted,
-                    kin,
-                    nbr,
-                    nbr_count,
-                    &p.area,
-                    &p.l_rr,
-                    &p.l_rz,
-                    &p.l_zr,
-                    &p.l_zz,
-                    &kin_filtered,
-                ],
-            );
+            let own = [&p.area, &p.l_rr, &p.l_rz, &p.l_zr, &p.l_zz, &kin_filtered];
+            let bind = kernel.bind(gpu, &[&walk(sph_uniform, grid, kin)[..], &own].concat());
             Some(Filter {
                 kernel,
                 bind,
@@ -137,6 +111,17 @@ impl SphRatesPass {
             self.gradient.dispatch(pass, &f.rates_bind, self.n);
         }
     }
+}
+
+/// The bindings neighbour_loop.wgsl names, in its order, with `kin` the kinematics gathered
+/// (the grid's own, or the filtered ones).
+fn walk<'a>(
+    uniform: &'a wgpu::Buffer,
+    grid: &'a GpuGrid,
+    kin: &'a wgpu::Buffer,
+) -> [&'a wgpu::Buffer; 7] {
+    let [info, cell_start, sorted, _, nbr, nbr_count] = grid.walk_bindings();
+    [uniform, info, cell_start, sorted, kin, nbr, nbr_count]
 }
 
 #[cfg(test)]
