@@ -19,7 +19,21 @@ Usage
     python3 scripts/cavity_expansion.py --no-rate             # ... rate term off
     python3 scripts/cavity_expansion.py --both-rates          # both, one table
     python3 scripts/cavity_expansion.py --check               # verification only (see below)
+    python3 scripts/cavity_expansion.py --shots ../shared/data/forrestal1994.csv \
+        --speeds 10,25,50,100,150,200,300,400,500,650,800     # depths of a rigid ogive (below)
     options: --fc PA --density KG_M3 --speeds 25,50,100,200 --a-end 25 --merge-frac 0.01
+             --set KEY=VALUE (override one constant of the f_c rule's set, e.g. mu_lock=0.13)
+
+Depths (--shots)
+----------------
+For each measured shot, the wall stress at the listed speeds (at the shot's f_c) becomes the
+normal stress sigma_n(V_n) on a rigid, frictionless CRH ogive, V_n = V cos(phi) being the normal
+speed of each point of the nose (Forrestal's method); sigma_n below the slowest speed is taken as
+the slowest one's (the quasi-static limit: list a slow speed first). The axial force over the
+nose gives the resistance R(V); the projectile then crosses Forrestal's crater (a force growing
+linearly over 4a to its tunnel value) and the tunnel: P = 4a + int_0^V1 m V dV / (pi a^2 R(V)).
+Printed beside the measured depth and Forrestal's equation: the depth the concrete model itself
+predicts, free of SPH, contact and the projectile's deformation.
 
 Verification (--check)
 ----------------------
@@ -27,6 +41,7 @@ Verification (--check)
 1. Linear elastic medium, small expansion: sigma_r(a) = 4 G u_a / a0 (compression positive).
 2. Elastic-perfectly plastic (von Mises, constant Y, p = K mu) expanded to a/a0 = 25 at a low
    speed: Hill's limit pressure p = (2Y/3) [1 + ln(E / (3 (1 - nu) Y))].
+3. The rigid-ogive integration of --shots: projected area, Forrestal's N, his closed-form depth.
 
 Scheme
 ------
@@ -534,11 +549,159 @@ def check_hill(youngs, nu, density, y, speed, merge_frac):
 
 
 # ---------------------------------------------------------------------------------------------
+# Penetration depth of a rigid ogive from the cavity-expansion resistance (Forrestal's method)
+# ---------------------------------------------------------------------------------------------
+
+def ogive_resistance(sigma_n, speed, crh, samples=400):
+    """Axial force over pi a^2 on a rigid, frictionless tangent ogive of CRH `crh` moving at
+    `speed`, each surface point loaded by the normal stress sigma_n(V_n) of a cavity expanding
+    at the normal speed V_n = V cos(phi) (phi: the angle of the ogive arc, pi/2 at the shank).
+    With s = 2 crh a the ogive radius, r/a = 2 crh sin(phi) - (2 crh - 1), and
+    F / (pi a^2) = 2 int sigma_n(V cos phi) cos phi (r/a)(s/a) dphi, which is 1 for sigma_n = 1
+    and Forrestal's N = (8 crh - 1)/(24 crh^2) for sigma_n = V_n^2 / V^2."""
+    phi0 = math.asin((2.0 * crh - 1.0) / (2.0 * crh))
+    phi = np.linspace(phi0, 0.5 * math.pi, samples)
+    r = 2.0 * crh * np.sin(phi) - (2.0 * crh - 1.0)
+    f = sigma_n(speed * np.cos(phi)) * np.cos(phi) * r * (2.0 * crh)
+    return 2.0 * float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(phi)))
+
+
+def rigid_depth(resistance, mass, radius, speed, samples=2000):
+    """Depth of a rigid projectile meeting the axial stress resistance(V) in the tunnel, with
+    Forrestal's crater: a force growing linearly over the first 4a to its tunnel value at V1,
+    so m (Vs^2 - V1^2) = 4a pi a^2 R(V1); then P = 4a + int_0^V1 m V dV / (pi a^2 R(V))."""
+    area = math.pi * radius ** 2
+    lo, hi = 0.0, speed
+    if mass * speed ** 2 <= 4.0 * radius * area * resistance(0.0):
+        return None   # stops in the crater: outside the equation's range
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if mass * (speed ** 2 - mid ** 2) > 4.0 * radius * area * resistance(mid):
+            lo = mid
+        else:
+            hi = mid
+    v1 = 0.5 * (lo + hi)
+    v = np.linspace(0.0, v1, samples)
+    g = mass * v / (area * np.array([resistance(x) for x in v]))
+    return 4.0 * radius + float(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(v)))
+
+
+def forrestal_equation(mass, radius, crh, density, fc, speed):
+    """Forrestal et al. (1994), physics.md section 8 (S = 82.6 f_c^-0.544, f_c in MPa)."""
+    n = (8.0 * crh - 1.0) / (24.0 * crh ** 2)
+    s = 82.6 * (fc / 1.0e6) ** -0.544
+    v1_sq = (mass * speed ** 2 - 4.0 * math.pi * radius ** 3 * s * fc) / (
+        mass + 4.0 * math.pi * radius ** 3 * density * n)
+    return (mass / (2.0 * math.pi * radius ** 2 * density * n)) * math.log(
+        1.0 + n * density * v1_sq / (s * fc)) + 4.0 * radius
+
+
+def read_shots(path):
+    """velocity_m_s,mass_kg,fc_MPa,depth_m[,...] rows of a data file such as
+    ../shared/data/forrestal1994.csv ('#' lines are comments)."""
+    shots = []
+    with open(path) as f:
+        raw = [ln.strip() for ln in f if ln.strip()]
+    lines = [ln for ln in raw if not ln.startswith("#")]
+    head = lines[0].split(",")
+    if "velocity_m_s" not in head:
+        # The header may itself be the last comment line (as in forrestal1994.csv).
+        named = [ln.lstrip("#").strip() for ln in raw if ln.startswith("#") and "," in ln]
+        head = named[-1].split(",") if named else head
+    else:
+        lines = lines[1:]
+    need = ("velocity_m_s", "mass_kg", "fc_MPa", "depth_m")
+    missing = [k for k in need if k not in head]
+    if missing:
+        raise SystemExit(f"{path}: missing column(s) {missing} in header {head}")
+    for ln in lines:
+        cells = dict(zip(head, ln.split(",")))
+        shots.append({k: float(cells[k]) for k in need})
+    return shots
+
+
+def run_shots(path, density, radius, crh, speeds, use_rate, merge_frac, a_end, overrides):
+    """For each measured shot: the depth a rigid ogive reaches against the cavity-expansion
+    resistance of the f_c rule's HJC concrete (at the shot's f_c), beside the measured depth
+    and Forrestal's equation. Also checks the integration: Forrestal's own sigma_n = S f_c +
+    rho V_n^2 put through ogive_resistance and rigid_depth must give the closed form."""
+    shots = read_shots(path)
+    print(f"{'V m/s':>6} {'f_c MPa':>7} {'measured':>9} {'equation':>9} {'err':>7} "
+          f"{'HJC cavity':>10} {'err':>7} {'R(0) MPa':>8} {'R(100)':>7} {'R(220)':>7} "
+          f"{'R(400)':>7} {'check':>9}")
+    errs_eq, errs_cav = [], []
+    tables = {}
+    for shot in shots:
+        fc = shot["fc_MPa"] * 1.0e6
+        if fc not in tables:
+            _, rows = run_hjc(fc, density, speeds, use_rate, merge_frac, a_end, overrides)
+            tables[fc] = (np.array([0.0] + [s["v"] for s in rows]),
+                          np.array([rows[0]["wall"]] + [s["wall"] for s in rows]))
+        vs, walls = tables[fc]
+
+        def sigma_n(vn, vs=vs, walls=walls):
+            if np.max(vn) > vs[-1] * (1.0 + 1e-9):
+                raise SystemExit(f"normal speed {np.max(vn):.1f} m/s beyond the table "
+                                 f"({vs[-1]:g} m/s): add a faster --speeds entry")
+            return np.interp(vn, vs, walls)
+
+        def resistance(v, sigma_n=sigma_n):
+            return ogive_resistance(sigma_n, v, crh)
+
+        depth = rigid_depth(resistance, shot["mass_kg"], radius, shot["velocity_m_s"])
+        eq = forrestal_equation(shot["mass_kg"], radius, crh, density, fc, shot["velocity_m_s"])
+        s_emp = 82.6 * (fc / 1.0e6) ** -0.544
+
+        def law(v, s_emp=s_emp, fc=fc):
+            return ogive_resistance(lambda vn: s_emp * fc + density * vn ** 2, v, crh)
+
+        check = rigid_depth(law, shot["mass_kg"], radius, shot["velocity_m_s"])
+        meas = shot["depth_m"]
+        e_eq, e_cav = (eq - meas) / meas, (depth - meas) / meas
+        errs_eq.append(abs(e_eq))
+        errs_cav.append(abs(e_cav))
+        print(f"{shot['velocity_m_s']:6.0f} {fc / 1e6:7.1f} {meas:9.3f} {eq:9.4f} "
+              f"{100 * e_eq:+6.1f}% {depth:10.4f} {100 * e_cav:+6.1f}% "
+              f"{resistance(0.0) / 1e6:8.1f} {resistance(100.0) / 1e6:7.1f} "
+              f"{resistance(220.0) / 1e6:7.1f} {resistance(400.0) / 1e6:7.1f} "
+              f"{100 * (check - eq) / eq:+8.3f}%")
+    print(f"mean absolute error: Forrestal's equation {100 * np.mean(errs_eq):.1f} %, "
+          f"HJC cavity expansion {100 * np.mean(errs_cav):.1f} %")
+    print("R(V): the resistance F/(pi a^2) on the ogive at V m/s (MPa); check: Forrestal's "
+          "sigma_n = S f_c + rho V_n^2 through the same ogive integration and crater rule, "
+          "against the closed form (must be ~0)")
+
+
+def check_ogive():
+    """3. The ogive integration and the crater rule of --shots: a uniform normal stress gives the
+    projected area, a stress V_n^2 gives Forrestal's N, and Forrestal's own sigma_n put through
+    rigid_depth gives his closed-form depth (the 499 m/s shot)."""
+    ok = True
+    for crh in (1.0, 2.0, 3.0):
+        uniform = ogive_resistance(lambda vn: np.ones_like(vn), 100.0, crh)
+        n = ogive_resistance(lambda vn: (vn / 100.0) ** 2, 100.0, crh)
+        want = (8.0 * crh - 1.0) / (24.0 * crh ** 2)
+        good = abs(uniform - 1.0) < 1e-4 and abs(n / want - 1.0) < 1e-4
+        ok &= good
+        print(f"3. ogive CRH {crh:g}: uniform stress -> {uniform:.6f} (1), V_n^2 -> {n:.6f} "
+              f"(N = {want:.6f}) -> {'PASS' if good else 'FAIL'}")
+    fc, density, mass, radius, speed = 33.5e6, 2370.0, 0.912, 0.01345, 499.0
+    s_emp = 82.6 * (fc / 1.0e6) ** -0.544
+    depth = rigid_depth(lambda v: ogive_resistance(lambda vn: s_emp * fc + density * vn ** 2,
+                                                    v, 2.0), mass, radius, speed)
+    want = forrestal_equation(mass, radius, 2.0, density, fc, speed)
+    good = abs(depth / want - 1.0) < 1e-4
+    print(f"3. Forrestal's law through rigid_depth: {depth:.5f} m, closed form {want:.5f} m "
+          f"-> {'PASS' if good else 'FAIL'}")
+    return ok and good
+
+
+# ---------------------------------------------------------------------------------------------
 # Main
 # ---------------------------------------------------------------------------------------------
 
-def run_hjc(fc, density, speeds, use_rate, merge_frac, a_end):
-    h = from_fc(fc, density)
+def run_hjc(fc, density, speeds, use_rate, merge_frac, a_end, overrides=None):
+    h = replace(from_fc(fc, density), **(overrides or {}))
     mat = HjcMaterial(h, use_rate)
     rows = []
     for v in speeds:
@@ -597,7 +760,25 @@ def main(argv=None):
     ap.add_argument("--merge-frac", type=float, default=0.01,
                     help="merge zones thinner than this fraction of their radius")
     ap.add_argument("--a-end", type=float, default=25.0, help="final a/a0")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="override one HJC constant of the f_c rule's set (SI), e.g. "
+                         "--set mu_lock=0.13; repeatable")
+    ap.add_argument("--shots", metavar="CSV",
+                    help="depths of a rigid CRH ogive against the cavity-expansion resistance, "
+                         "for each shot of a data file such as ../shared/data/forrestal1994.csv")
+    ap.add_argument("--radius", type=float, default=0.01345, help="projectile radius a (m)")
+    ap.add_argument("--crh", type=float, default=2.0, help="ogive calibre radius head")
     args = ap.parse_args(argv)
+    overrides = {}
+    names = set(Hjc.__dataclass_fields__)
+    for item in args.set:
+        key, sep, value = item.partition("=")
+        if not sep or key not in names:
+            ap.error(f"--set {item!r}: expected KEY=VALUE with KEY one of {sorted(names)}")
+        try:
+            overrides[key] = float(value)
+        except ValueError:
+            ap.error(f"--set {item!r}: {value!r} is not a number")
 
     if args.check:
         t0 = time.time()
@@ -605,15 +786,21 @@ def main(argv=None):
         ok &= check_elastic()
         ok &= check_hill(27.9e9, 0.2, 2370.0, 30e6, 10.0, args.merge_frac)  # concrete-like
         ok &= check_hill(200e9, 0.3, 7850.0, 500e6, 20.0, args.merge_frac)   # steel-like
+        ok &= check_ogive()
         print(f"verification {'PASSED' if ok else 'FAILED'} ({time.time() - t0:.1f} s)")
         return 0 if ok else 1
 
     speeds = [float(v) for v in args.speeds.split(",") if v.strip()]
+    if args.shots:
+        run_shots(args.shots, args.density, args.radius, args.crh, speeds, not args.no_rate,
+                  args.merge_frac, args.a_end, overrides)
+        return 0
     rates = [True, False] if args.both_rates else [not args.no_rate]
     rows_by_rate = []
     h = None
     for use_rate in rates:
-        h, rows = run_hjc(args.fc, args.density, speeds, use_rate, args.merge_frac, args.a_end)
+        h, rows = run_hjc(args.fc, args.density, speeds, use_rate, args.merge_frac, args.a_end,
+                          overrides)
         rows_by_rate.append(("on" if use_rate else "off", rows))
     print_table(args.fc, args.density, h, rows_by_rate)
     return 0
