@@ -108,10 +108,13 @@ def reference_48mpa():
                p_lock=0.8e9, mu_lock=0.10)
 
 
+GRAIN_DENSITY = 2684.0  # kg/m^3, the reference set's rho0 (1 + mu_lock), as in hjc.rs
+
+
 def from_fc(fc, density):
     """The f_c rule: E = 4730 sqrt(f_c[MPa]) MPa, nu = 0.2, G = E/(2(1+nu)),
-    K_el = E/(3(1-2nu)), P_crush = f_c/3, mu_crush = P_crush/K_el, T = 0.62 sqrt(f_c[MPa]) MPa;
-    everything else from the reference set."""
+    K_el = E/(3(1-2nu)), P_crush = f_c/3, mu_crush = P_crush/K_el, T = 0.62 sqrt(f_c[MPa]) MPa,
+    mu_lock = GRAIN_DENSITY/rho0 - 1; everything else from the reference set."""
     fc_mpa = fc / 1.0e6
     youngs = 4730.0e6 * math.sqrt(fc_mpa)
     nu = 0.2
@@ -120,7 +123,7 @@ def from_fc(fc, density):
     p_crush = fc / 3.0
     return replace(reference_48mpa(), density=density, shear_modulus=shear, fc=fc,
                    t=0.62e6 * math.sqrt(fc_mpa), p_crush=p_crush,
-                   mu_crush=p_crush / bulk_elastic)
+                   mu_crush=p_crush / bulk_elastic, mu_lock=GRAIN_DENSITY / density - 1.0)
 
 
 def dense_pressure(h, mu_bar):

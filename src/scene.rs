@@ -1751,8 +1751,10 @@ fn resolve_hjc(c: &Check, fc: f64, density: f64, raw: Option<&RawHjc>) -> Result
         &key("mu_lock"),
         f(h.mu_lock),
         &format!(
-            "must be > target.concrete.mu_crush = {} (P_crush/K_el unless set)",
-            approx(f(h.mu_crush))
+            "must be > target.concrete.mu_crush = {} (P_crush/K_el unless set; mu_lock is \
+             {}/target.density - 1 unless set, so a target as dense as the grains needs it set)",
+            approx(f(h.mu_crush)),
+            crate::materials::hjc::GRAIN_DENSITY
         ),
     )?;
     Ok(h)

@@ -393,6 +393,18 @@ fn copper_damage_needs_constants() {
 fn concrete_constants_are_checked() {
     let text = format!("{}\n[target.concrete]\nmu_lock = 1e-4\n", smoke_text());
     refused(&text, &[], &["target.concrete.mu_lock", "mu_crush"]);
+    // The rule's lock strain, ρ_grain/ρ₀ − 1, is ≤ 0 for a target as dense as the grains.
+    refused(
+        &smoke_text(),
+        &["target.density=2700"],
+        &["target.concrete.mu_lock", "target.density - 1 unless set"],
+    );
+    parse_str(
+        &format!("{}\n[target.concrete]\nmu_lock = 0.05\n", smoke_text()),
+        Path::new(ORIGIN),
+        &["target.density=2700".to_string()],
+    )
+    .expect("a dense target with its own mu_lock is accepted");
     refused(
         &smoke_with("fc = 35e6", "fc = 2e6"),
         &[],

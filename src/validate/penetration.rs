@@ -222,12 +222,14 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
     let resistance = resistance(ctx, &cases, &records)?;
     let scenes: Vec<&Scene> = cases.iter().map(|c| &c.scene).collect();
     let one_set = scenes.windows(2).all(|w| {
-        w[0].projectile.material == w[1].projectile.material && w[0].contact == w[1].contact
+        w[0].projectile.material == w[1].projectile.material
+            && w[0].contact == w[1].contact
+            && target_options(w[0]) == target_options(w[1])
     });
     let mut md =
         format!(
         "Each shot's scene (`cases/forrestal1994-<speed>.toml`) as shipped{}, on {}. Parameter \
-         set: projectile material preset `{}`, λ = {}, concrete from the f_c rule; {}. \
+         set: projectile material preset `{}`, λ = {}, concrete from the f_c rule, {}; {}. \
          Forrestal's equation (physics.md §8) takes the measured mass and f_c, the scene's shank \
          radius, CRH and concrete density. Target: every shot within {:.0} %. Mean absolute error of \
          the simulation {:.1} % over {} shot(s) that completed, of the equation {:.1} %. Raw data: \
@@ -236,10 +238,19 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
         ctx.primary().name(),
         scenes.first().map_or("", |s| s.projectile.material.preset.as_str()),
         scenes.first().map_or(0.0, |s| s.contact.lambda),
+        scenes
+            .first()
+            .and_then(|s| target_options(s))
+            .map_or(String::new(), |(ratio, alpha, beta, stress, switch, filter)| format!(
+                "SPH with h = {ratio} Δ, viscosity α = {alpha}, β = {beta}, switch `{switch}`, \
+                 velocity filter `{filter}`, artificial stress {}",
+                if stress { "on" } else { "off" }
+            )),
         if one_set {
-            "the same projectile material and contact in every shot"
+            "the same projectile material, contact and SPH options in every shot"
         } else {
-            "**the scenes differ in projectile material or contact: not one parameter set**"
+            "**the scenes differ in projectile material, contact or SPH options: not one \
+             parameter set**"
         },
         100.0 * SHOT_TOLERANCE,
         100.0 * mean_abs(&complete),
@@ -906,4 +917,20 @@ fn roundoff(
         &table_rows,
     );
     Ok((md, checks))
+}
+
+/// The target's numerical options, which one parameter set keeps alike in every shot (the
+/// concrete differs between shots only through each shot's f_c and the rule):
+/// h/Δ, α, β, artificial stress, the viscosity switch and the velocity filter.
+fn target_options(scene: &Scene) -> Option<(f64, f64, f64, bool, &'static str, &'static str)> {
+    scene.target.as_ref().map(|t| {
+        (
+            t.smoothing_ratio,
+            t.viscosity_alpha,
+            t.viscosity_beta,
+            t.artificial_stress,
+            t.viscosity_switch.name(),
+            t.velocity_filter.name(),
+        )
+    })
 }
