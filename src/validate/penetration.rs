@@ -221,11 +221,7 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
     )?;
     let resistance = resistance(ctx, &cases, &records)?;
     let scenes: Vec<&Scene> = cases.iter().map(|c| &c.scene).collect();
-    let one_set = scenes.windows(2).all(|w| {
-        w[0].projectile.material == w[1].projectile.material
-            && w[0].contact == w[1].contact
-            && target_options(w[0]) == target_options(w[1])
-    });
+    let one_set = one_parameter_set(&scenes);
     let mut md =
         format!(
         "Each shot's scene (`cases/forrestal1994-<speed>.toml`) as shipped{}, on {}. Parameter \
@@ -919,9 +915,20 @@ fn roundoff(
     Ok((md, checks))
 }
 
-/// The target's numerical options, which one parameter set keeps alike in every shot (the
-/// concrete differs between shots only through each shot's f_c and the rule):
-/// h/Δ, α, β, artificial stress, the viscosity switch and the velocity filter.
+/// Whether the shots share one parameter set: the projectile's material, the contact and the
+/// target's numerical options ([`target_options`]) alike in every scene.
+fn one_parameter_set(scenes: &[&Scene]) -> bool {
+    scenes.windows(2).all(|w| {
+        w[0].projectile.material == w[1].projectile.material
+            && w[0].contact == w[1].contact
+            && target_options(w[0]) == target_options(w[1])
+    })
+}
+
+/// The target's numerical options, which one parameter set keeps alike in every shot: h/Δ,
+/// α, β, artificial stress, the viscosity switch and the velocity filter. The concrete is not
+/// compared: its constants differ between shots by design, through each shot's f_c and the
+/// rule (explicit `[target.concrete]` overrides are therefore not checked here either).
 fn target_options(scene: &Scene) -> Option<(f64, f64, f64, bool, &'static str, &'static str)> {
     scene.target.as_ref().map(|t| {
         (
@@ -933,4 +940,37 @@ fn target_options(scene: &Scene) -> Option<(f64, f64, f64, bool, &'static str, &
             t.velocity_filter.name(),
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn forrestal(overrides: &[&str]) -> Scene {
+        let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/forrestal1994-277.toml");
+        let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        crate::scene::load(&case, &sets).unwrap()
+    }
+
+    #[test]
+    fn one_parameter_set_allows_each_shot_its_own_speed_and_concrete_only() {
+        let base = forrestal(&[]);
+        let other_shot = forrestal(&["projectile.velocity=642", "target.fc=34.7e6"]);
+        assert!(one_parameter_set(&[&base, &other_shot]));
+        for change in [
+            "target.velocity_filter=\"none\"",
+            "target.viscosity_switch=\"none\"",
+            "target.viscosity_alpha=0.5",
+            "target.smoothing_ratio=2.0",
+            "contact.lambda=0",
+            "projectile.material.jc_a=1e9",
+        ] {
+            let changed = forrestal(&[change]);
+            assert!(
+                !one_parameter_set(&[&base, &changed]),
+                "{change} went unnoticed"
+            );
+        }
+    }
 }
