@@ -652,6 +652,10 @@ def run_shots(path, density, radius, crh, speeds, use_rate, merge_frac, a_end, o
             return ogive_resistance(sigma_n, v, crh)
 
         depth = rigid_depth(resistance, shot["mass_kg"], radius, shot["velocity_m_s"])
+        if depth is None:
+            print(f"{shot['velocity_m_s']:6.0f}: stops within Forrestal's crater (4a), where "
+                  "this integration does not apply; left out")
+            continue
         eq = forrestal_equation(shot["mass_kg"], radius, crh, density, fc, shot["velocity_m_s"])
         s_emp = 82.6 * (fc / 1.0e6) ** -0.544
 
@@ -668,8 +672,9 @@ def run_shots(path, density, radius, crh, speeds, use_rate, merge_frac, a_end, o
               f"{resistance(0.0) / 1e6:8.1f} {resistance(100.0) / 1e6:7.1f} "
               f"{resistance(220.0) / 1e6:7.1f} {resistance(400.0) / 1e6:7.1f} "
               f"{100 * (check - eq) / eq:+8.3f}%")
-    print(f"mean absolute error: Forrestal's equation {100 * np.mean(errs_eq):.1f} %, "
-          f"HJC cavity expansion {100 * np.mean(errs_cav):.1f} %")
+    if errs_cav:
+        print(f"mean absolute error over {len(errs_cav)} shot(s): Forrestal's equation "
+              f"{100 * np.mean(errs_eq):.1f} %, HJC cavity expansion {100 * np.mean(errs_cav):.1f} %")
     print("R(V): the resistance F/(pi a^2) on the ogive at V m/s (MPa); check: Forrestal's "
           "sigma_n = S f_c + rho V_n^2 through the same ogive integration and crater rule, "
           "against the closed form (must be ~0)")
@@ -773,7 +778,7 @@ def main(argv=None):
     ap.add_argument("--crh", type=float, default=2.0, help="ogive calibre radius head")
     args = ap.parse_args(argv)
     overrides = {}
-    names = set(Hjc.__dataclass_fields__)
+    names = set(Hjc.__dataclass_fields__) - {"density", "fc"}  # --density, --fc, the shots
     for item in args.set:
         key, sep, value = item.partition("=")
         if not sep or key not in names:
