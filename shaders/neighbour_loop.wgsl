@@ -10,7 +10,8 @@
 // masked-off lane still costs the body). A particle with more than NBR_MAX neighbours is walked
 // on the grid instead: the same neighbours in the same order.
 //
-// Needs grid.wgsl. The including pass declares the bindings `u: SphUniform`, `grid: GridInfo`,
+// Needs grid.wgsl. Declared before it (gather_bindings.wgsl for the gather passes,
+// neighbour_list.wgsl for the list pass, which writes the lists): `u: SphUniform`, `grid: GridInfo`,
 // `cell_start`, `sorted`, `kin` (each particle's (r, z, v_r, v_z), packed by the neighbours
 // pass so that a neighbour's position and velocity come in one load), `nbr`, `nbr_count`, a
 // struct `Gather` and

@@ -4,15 +4,9 @@
 // fitted at it, v̄_i = v_i + Σ_j A_j W_ij (v_j − v_i − L_i (x_j − x_i)) / Σ_j A_j W_ij (i itself
 // in the weights, with no departure). Written as (r, z, v̄_r, v̄_z), the layout of `kin`, so
 // that the second `gradient` dispatch reads it in kin's place.
-// Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
+// Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
+// neighbour_loop.wgsl.
 
-@group(0) @binding(0) var<uniform> u: SphUniform;
-@group(0) @binding(1) var<storage, read> grid: GridInfo;
-@group(0) @binding(2) var<storage, read> cell_start: array<u32>;
-@group(0) @binding(3) var<storage, read> sorted: array<u32>;
-@group(0) @binding(4) var<storage, read> kin: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read> nbr: array<u32>;
-@group(0) @binding(6) var<storage, read> nbr_count: array<u32>;
 @group(0) @binding(7) var<storage, read> area: array<f32>;
 @group(0) @binding(8) var<storage, read> l_rr: array<f32>;
 @group(0) @binding(9) var<storage, read> l_rz: array<f32>;

@@ -6,16 +6,9 @@
 // Gray–Monaghan artificial stress R when enabled, the Balsara switch on Π when enabled, and the
 // work-conjugate energy rate.
 // Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
-// Needs params.wgsl, grid.wgsl and neighbour_loop.wgsl.
+// Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
+// neighbour_loop.wgsl.
 
-@group(0) @binding(0) var<uniform> u: SphUniform;
-@group(0) @binding(1) var<storage, read> grid: GridInfo;
-@group(0) @binding(2) var<storage, read> cell_start: array<u32>;
-@group(0) @binding(3) var<storage, read> sorted: array<u32>;
-// The neighbours pass's (r, z, v_r, v_z) and lists (neighbour_loop.wgsl).
-@group(0) @binding(4) var<storage, read> kin: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read> nbr: array<u32>;
-@group(0) @binding(6) var<storage, read> nbr_count: array<u32>;
 @group(0) @binding(7) var<storage, read> rho: array<f32>;
 @group(0) @binding(8) var<storage, read> p: array<f32>;
 @group(0) @binding(9) var<storage, read> s_rr: array<f32>;

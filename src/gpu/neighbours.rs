@@ -26,6 +26,18 @@ pub struct GpuGrid {
 /// grid instead, so this bounds memory, not correctness.
 pub const NBR_MAX: usize = 64;
 
+/// The WGSL of a pass that gathers over the neighbour lists: the parameters, the grid, the
+/// shared bindings 0–6 ([`GpuGrid::gather_bindings`]), the neighbour loop, then `pass`.
+pub fn gather_source(pass: &str) -> String {
+    source(&[
+        include_str!("../../shaders/params.wgsl"),
+        include_str!("../../shaders/grid.wgsl"),
+        include_str!("../../shaders/gather_bindings.wgsl"),
+        include_str!("../../shaders/neighbour_loop.wgsl"),
+        pass,
+    ])
+}
+
 impl GpuGrid {
     /// The six buffers a pass that walks the neighbours binds at 1–6, in the order
     /// shaders/neighbour_loop.wgsl names them: GridInfo, cell_start, sorted, kin, nbr,
@@ -39,6 +51,17 @@ impl GpuGrid {
             &self.nbr,
             &self.nbr_count,
         ]
+    }
+
+    /// The buffers of bindings 0–6 of a gather pass (shaders/gather_bindings.wgsl), with `kin`
+    /// the kinematics gathered: this grid's own, or the filtered ones.
+    pub fn gather_bindings<'a>(
+        &'a self,
+        uniform: &'a wgpu::Buffer,
+        kin: &'a wgpu::Buffer,
+    ) -> [&'a wgpu::Buffer; 7] {
+        let [info, cell_start, sorted, _, nbr, nbr_count] = self.walk_bindings();
+        [uniform, info, cell_start, sorted, kin, nbr, nbr_count]
     }
 
     /// The grid's buffers for `n` particles and `capacity` cells, with `info` as given.

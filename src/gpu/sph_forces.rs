@@ -1,8 +1,8 @@
 //! `sph_forces` on the GPU (shaders/sph_forces.wgsl); CPU twin `cpu::sph_forces::run`.
 
-use super::neighbours::GpuGrid;
+use super::neighbours::{gather_source, GpuGrid};
 use super::state::GpuParticles;
-use super::{source, Gpu, Kernel, Slot};
+use super::{Gpu, Kernel, Slot};
 
 /// Bindings of shaders/sph_forces.wgsl, shared by both entry points: SphUniform, the grid
 /// (GridInfo, cell_start, sorted), kin and the lists, 9 read fields, then what `prologue`
@@ -33,12 +33,7 @@ impl SphForcesPass {
         art_stress: bool,
         balsara: bool,
     ) -> Result<SphForcesPass, String> {
-        let src = source(&[
-            include_str!("../../shaders/params.wgsl"),
-            include_str!("../../shaders/grid.wgsl"),
-            include_str!("../../shaders/neighbour_loop.wgsl"),
-            include_str!("../../shaders/sph_forces.wgsl"),
-        ]);
+        let src = gather_source(include_str!("../../shaders/sph_forces.wgsl"));
         let art = [
             ("ART_STRESS", f64::from(u8::from(art_stress))),
             ("BALSARA", f64::from(u8::from(balsara))),
@@ -46,17 +41,9 @@ impl SphForcesPass {
         let prologue = gpu.kernel_with("sph_forces.prologue", &src, "prologue", SLOTS, &art)?;
         let forces = gpu.kernel_with("sph_forces.forces", &src, "forces", SLOTS, &art)?;
         let p = particles;
-        let [info, cell_start, sorted, kin, nbr, nbr_count] = grid.walk_bindings();
         let pair_s = gpu.zeros::<[f32; 4]>("sph_forces pair_s", p.len);
         let pair_c = gpu.zeros::<[f32; 4]>("sph_forces pair_c", p.len);
-        let buffers = [
-            sph_uniform,
-            info,
-            cell_start,
-            sorted,
-            kin,
-            nbr,
-            nbr_count,
+        let own = [
             &p.rho,
             &p.p,
             &p.s_rr,
@@ -76,6 +63,8 @@ impl SphForcesPass {
             &p.mu_visc,
             &p.de_work,
         ];
+        let kin = grid.walk_bindings()[3];
+        let buffers = [&grid.gather_bindings(sph_uniform, kin)[..], &own].concat();
         Ok(SphForcesPass {
             prologue_bind: prologue.bind(gpu, &buffers),
             forces_bind: forces.bind(gpu, &buffers),

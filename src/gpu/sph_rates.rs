@@ -1,8 +1,8 @@
 //! `sph_rates` on the GPU (shaders/sph_rates.wgsl); CPU twin `cpu::sph_rates::run`.
 
-use super::neighbours::GpuGrid;
+use super::neighbours::{gather_source, GpuGrid};
 use super::state::GpuParticles;
-use super::{source, Gpu, Kernel, Slot};
+use super::{Gpu, Kernel, Slot};
 use crate::state::SphParams;
 
 /// Bindings of shaders/sph_rates.wgsl: SphUniform, the grid (GridInfo, cell_start, sorted),
@@ -46,15 +46,6 @@ impl SphRatesPass {
         sph_uniform: &wgpu::Buffer,
         params: &SphParams,
     ) -> Result<SphRatesPass, String> {
-        // Both passes gather over the neighbour lists.
-        let gather_source = |pass: &str| {
-            source(&[
-                include_str!("../../shaders/params.wgsl"),
-                include_str!("../../shaders/grid.wgsl"),
-                include_str!("../../shaders/neighbour_loop.wgsl"),
-                pass,
-            ])
-        };
         let src = gather_source(include_str!("../../shaders/sph_rates.wgsl"));
         let switch = [("BALSARA", f64::from(u8::from(params.balsara)))];
         let areas = gpu.kernel_with("sph_rates.areas", &src, "areas", SLOTS, &switch)?;
@@ -76,7 +67,10 @@ impl SphRatesPass {
                 &p.drho,
                 &p.visc_switch,
             ];
-            areas.bind(gpu, &[&walk(sph_uniform, grid, kin)[..], &own].concat())
+            areas.bind(
+                gpu,
+                &[&grid.gather_bindings(sph_uniform, kin)[..], &own].concat(),
+            )
         };
         let bind = rates_bind(kin);
         let filter = if params.velocity_filter {
@@ -84,7 +78,10 @@ impl SphRatesPass {
             let kernel = gpu.kernel("sph_filter", &src, "filter_velocity", FILTER_SLOTS)?;
             let kin_filtered = gpu.zeros::<[f32; 4]>("filtered kinematics", p.len);
             let own = [&p.area, &p.l_rr, &p.l_rz, &p.l_zr, &p.l_zz, &kin_filtered];
-            let bind = kernel.bind(gpu, &[&walk(sph_uniform, grid, kin)[..], &own].concat());
+            let bind = kernel.bind(
+                gpu,
+                &[&grid.gather_bindings(sph_uniform, kin)[..], &own].concat(),
+            );
             Some(Filter {
                 kernel,
                 bind,
@@ -111,17 +108,6 @@ impl SphRatesPass {
             self.gradient.dispatch(pass, &f.rates_bind, self.n);
         }
     }
-}
-
-/// The bindings neighbour_loop.wgsl names, in its order, with `kin` the kinematics gathered
-/// (the grid's own, or the filtered ones).
-fn walk<'a>(
-    uniform: &'a wgpu::Buffer,
-    grid: &'a GpuGrid,
-    kin: &'a wgpu::Buffer,
-) -> [&'a wgpu::Buffer; 7] {
-    let [info, cell_start, sorted, _, nbr, nbr_count] = grid.walk_bindings();
-    [uniform, info, cell_start, sorted, kin, nbr, nbr_count]
 }
 
 #[cfg(test)]
