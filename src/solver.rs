@@ -267,6 +267,11 @@ impl Simulation {
         let gpu_err = |e: String| RunError::Unstable(format!("GPU: {e}"));
         let rb = g.advance().map_err(gpu_err)?;
         let dt = rb.dt;
+        if collapsed(dt) {
+            // The site of the collapse is read from the state: bring it back first.
+            g.download(&mut self.particles, &mut self.projectile, Sync::Full)
+                .map_err(gpu_err)?;
+        }
         self.check_dt(dt)?;
         {
             let n = &mut self.projectile.nodes;
@@ -409,10 +414,12 @@ impl Simulation {
     /// lattice does, and nothing bounds it when every element has failed and opened
     /// (`cpu::fem_stress::OPEN_RELATIVE_VOLUME`) and there is no target.
     fn check_dt(&self, dt: f32) -> Result<(), RunError> {
-        if !(dt.is_finite() && dt > 1.0e-13) {
+        if collapsed(dt) {
             return Err(RunError::Unstable(format!(
-                "time step collapsed to {dt:e} s at step {}, t {:.4e} s",
-                self.step, self.time
+                "time step collapsed to {dt:e} s at step {}, t {:.4e} s: {}",
+                self.step,
+                self.time,
+                self.smallest_step_site()
             )));
         }
         if dt > 1.0 {
@@ -423,6 +430,61 @@ impl Simulation {
             )));
         }
         Ok(())
+    }
+
+    /// Where the step is smallest: the element or particle whose own stable step is the least,
+    /// where it is and the state that made it so (a crushed element, a compressed particle).
+    /// Reads the CPU copy of the state, which a GPU run must have downloaded.
+    fn smallest_step_site(&self) -> String {
+        let mut site: Option<(f32, String)> = None;
+        let mut offer = |dt: f32, what: &dyn Fn() -> String| {
+            if site.as_ref().is_none_or(|s| dt < s.0) {
+                site = Some((dt, what()));
+            }
+        };
+        if self.has(Pass::FemStress) {
+            let e = &self.projectile.elements;
+            let n = &self.projectile.nodes;
+            if let Some(k) = (0..e.len()).min_by(|&a, &b| e.dt[a].total_cmp(&e.dt[b])) {
+                offer(e.dt[k], &|| {
+                    let el = e.nodes[k];
+                    let c = |v: &[f32]| el.iter().map(|&i| v[i as usize]).sum::<f32>() / 3.0;
+                    let volume = cpu::fem_stress::Geometry::new(&el, &n.r, &n.z).volume();
+                    format!(
+                        "element {k} has the smallest stable step, {:e} s, at (r {:.4e}, \
+                         z {:.4e}) m: {:.3e} of its initial volume, plastic strain {:.3}, \
+                         damage {:.2}{}",
+                        e.dt[k],
+                        c(&n.r),
+                        c(&n.z),
+                        volume / e.volume0[k],
+                        e.eps_p[k],
+                        e.damage[k],
+                        if e.failed[k] != 0 { ", failed" } else { "" }
+                    )
+                });
+            }
+        }
+        if let Some(sph) = &self.sph {
+            let p = &self.particles;
+            let step = |i: usize| cpu::integrate::particle_step(p, sph, i);
+            if let Some(i) = (0..p.len()).min_by(|&a, &b| step(a).total_cmp(&step(b))) {
+                offer(step(i), &|| {
+                    format!(
+                        "particle {i} has the smallest stable step, {:e} s, at (r {:.4e}, \
+                         z {:.4e}) m: density {:.0} kg/m³, sound speed {:.0} m/s, speed {:.0} \
+                         m/s",
+                        step(i),
+                        p.r[i],
+                        p.z[i],
+                        p.rho[i],
+                        p.sound[i],
+                        p.vr[i].hypot(p.vz[i])
+                    )
+                });
+            }
+        }
+        site.map_or_else(|| "nothing sets it".into(), |s| s.1)
     }
 
     /// One explicit step: velocities and positions, contact, then rates, stresses and forces at
@@ -950,6 +1012,11 @@ struct Slaves<'a> {
     vr: &'a mut [f32],
     vz: &'a mut [f32],
     mass: &'a [f32],
+}
+
+/// A step too small to go on with (or not a number): the run has collapsed.
+fn collapsed(dt: f32) -> bool {
+    !(dt.is_finite() && dt > 1.0e-13)
 }
 
 /// The λ correction of `hits` (physics.md §4) on `slaves` and the projectile's nodes; its

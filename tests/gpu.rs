@@ -3,8 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
+use penetrate::gpu::Gpu;
 use penetrate::scene::{self, Backend, Scene};
 use penetrate::solver::{self, RunOptions, Simulation};
+
+mod common;
 
 fn case(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -18,14 +21,20 @@ fn smoke(set: &[&str]) -> Scene {
 }
 
 fn on_gpu(scene: &Scene) -> Simulation {
+    let mut sim = Simulation::new(scene).unwrap();
+    sim.use_gpu(gpu()).unwrap();
+    sim
+}
+
+/// The adapter the tests run on (`PENETRATE_ADAPTER`, or the best one).
+fn gpu() -> Gpu {
     let adapter = std::env::var("PENETRATE_ADAPTER").ok();
-    match solver::build(scene, Backend::Gpu, adapter.as_deref()) {
-        Ok(sim) => sim,
-        Err(e) => panic!(
+    Gpu::new(adapter.as_deref()).unwrap_or_else(|e| {
+        panic!(
             "GPU test needs an adapter: {e}. Install Mesa's software Vulkan adapter \
              (Debian: apt-get install mesa-vulkan-drivers) or run `bash scripts/test`, which does."
-        ),
-    }
+        )
+    })
 }
 
 /// Largest |a − b| over the field.
@@ -237,6 +246,23 @@ fn short_run(scene: &Scene, out: &Path, backend: Backend) -> solver::RunOutcome 
     opts.backend = Some(backend);
     opts.adapter = std::env::var("PENETRATE_ADAPTER").ok();
     solver::run(scene, &opts).unwrap()
+}
+
+/// A step that collapses on the GPU stops the run naming where, as on the CPU: the state is
+/// brought back and the element or particle whose own stable step is the least is named.
+#[test]
+fn a_collapsed_gpu_step_names_where() {
+    let mut sim = Simulation::new(&smoke(&[])).unwrap();
+    run_steps(&mut sim, 5);
+    // A Courant number of 1e-7 makes every step about 1e-14 s: below what the run accepts.
+    sim.scene.run.cfl = 1.0e-7;
+    sim.use_gpu(gpu()).unwrap();
+    let err = (0..3)
+        .find_map(|_| sim.step().err())
+        .expect("the step did not collapse")
+        .to_string();
+    assert!(err.contains("time step collapsed"), "{err}");
+    common::assert_smallest_step_named(&sim, &err);
 }
 
 /// A rigid projectile (λ = 0) builds no FEM passes on the GPU either, and the Taylor bars (no

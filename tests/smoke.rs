@@ -6,6 +6,8 @@ use std::process::Command;
 use penetrate::scene::{self, Backend};
 use penetrate::solver::{self, RunOptions, Simulation};
 
+mod common;
+
 fn case(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("cases")
@@ -508,6 +510,25 @@ fn instability_is_reported_with_what_where_and_when() {
     (n.r[a], n.r[b], n.z[a], n.z[b]) = (n.r[b], n.r[a], n.z[b], n.z[a]);
     let err = sim.step().unwrap_err().to_string();
     assert!(err.contains("inverted"), "{err}");
+}
+
+/// A step that collapses stops the run naming where: the element or particle whose own stable
+/// step is the least, with its position and state.
+#[test]
+fn a_collapsed_step_names_where() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    for _ in 0..5 {
+        sim.step().unwrap();
+    }
+    // A Courant number of 1e-7 makes every step about 1e-14 s: below what the run accepts.
+    sim.scene.run.cfl = 1.0e-7;
+    let err = sim.step().unwrap_err().to_string();
+    assert!(
+        err.contains("time step collapsed") && err.contains("step 6"),
+        "{err}"
+    );
+    common::assert_smallest_step_named(&sim, &err);
 }
 
 /// The CPU path gives the same bits whatever the thread count: every parallel loop writes only
