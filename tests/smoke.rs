@@ -489,14 +489,21 @@ fn cli_rejects_bad_input_without_panicking() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A non-finite value halts the step with the entity, its position, the step and the time named.
-#[test]
-fn instability_is_reported_with_what_where_and_when() {
+/// The smoke scene on the CPU after five steps: a run under way, for the failure tests.
+fn smoke_after_five_steps() -> Simulation {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     for _ in 0..5 {
         sim.step().unwrap();
     }
+    sim
+}
+
+/// A non-finite value halts the step with the entity, its position, the step and the time named.
+#[test]
+fn instability_is_reported_with_what_where_and_when() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = smoke_after_five_steps();
     sim.particles.az[7] = f32::NAN;
     let err = sim.step().unwrap_err().to_string();
     assert!(err.starts_with("unstable: particle 7 non-finite"), "{err}");
@@ -516,11 +523,7 @@ fn instability_is_reported_with_what_where_and_when() {
 /// step is the least, with its position and state.
 #[test]
 fn a_collapsed_step_names_where() {
-    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
-    for _ in 0..5 {
-        sim.step().unwrap();
-    }
+    let mut sim = smoke_after_five_steps();
     // A Courant number of 1e-7 makes every step about 1e-14 s: below what the run accepts.
     sim.scene.run.cfl = 1.0e-7;
     let err = sim.step().unwrap_err().to_string();
