@@ -1,7 +1,8 @@
 // `sph_rates` (CPU twin: src/cpu/sph_rates.rs): per particle, the velocity gradient
 // L = G M⁻¹ gathered over neighbours and axis ghosts with planar areas m̃/ρ (physics.md §3),
 // corrected where M is well conditioned, and the density rate ρ̇ = −ρ (L_rr + L_zz + v_r/r);
-// with the Balsara switch on, each particle's factor on the viscosity from L.
+// with the Balsara switch on, each particle's factor on the viscosity from L. With CONJUGATE,
+// L is the conjugate gradient (1/ρ_i) Σ m̃_j (v_j − v_i) ⊗ ∇W, uncorrected (sph_rates.rs).
 // Two entry points over one binding list: `areas` (m̃ and m̃/ρ per particle), then `gradient`.
 // Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
@@ -22,6 +23,8 @@
 // The Balsara switch is on (SphParams::balsara): a pipeline constant, as ART_STRESS in
 // sph_forces.wgsl. Off, visc_switch keeps the 1 it was uploaded with.
 override BALSARA: bool;
+// target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
+override CONJUGATE: bool;
 
 // 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
 const TWO_PI: f32 = 6.2831855;
@@ -41,15 +44,21 @@ fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // G = Σ (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇W and M = Σ (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇W, row-major
 // (rr, rz, zr, zz).
-// v is particle i's velocity, loaded once (a driver may not hoist loads out of the loop).
+// v is particle i's velocity and rho_i its density, loaded once (a driver may not hoist loads
+// out of the loop).
 struct Gather {
     g: vec4<f32>,
     m: vec4<f32>,
     v: vec2<f32>,
+    rho_i: f32,
 }
 
 fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
-    let a = area[j];
+    var a = area[j];
+    if (CONJUGATE) {
+        // sph_rates.rs: m̃_j/ρ_i, in the CPU's order (area ρ_j)/ρ_i.
+        a = a * rho[j] / (*acc).rho_i;
+    }
     let gw = kernel_grad(u.kernel, d, dist);
     let vj = kin[j].zw;
     let dvr = sign * vj.x - (*acc).v.x;
@@ -79,9 +88,12 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
     let ki = kin[i];
-    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), ki.zw);
+    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), ki.zw, rho[i]);
     for_each_neighbour(&acc, i);
-    let l = correct(acc.g, acc.m);
+    var l = acc.g;
+    if (!CONJUGATE) {
+        l = correct(acc.g, acc.m);
+    }
     l_rr[i] = l.x;
     l_rz[i] = l.y;
     l_zr[i] = l.z;

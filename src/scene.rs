@@ -23,7 +23,7 @@
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
 //!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara"),
-//!   `velocity_filter` ("none" | "linear"),
+//!   `velocity_filter` ("none" | "linear"), `velocity_gradient` ("corrected" | "conjugate"),
 //!   `lead_hole_depth` (0), `lead_hole_diameter` (projectile.diameter; narrower: a pilot hole,
 //!   the nose starts at the face)
 //! - `[target.concrete]` (optional) any [`Hjc`] field but `density` and `fc`, over
@@ -185,6 +185,8 @@ pub struct TargetSpec {
     pub viscosity_switch: ViscositySwitch,
     /// Which velocity the concrete's strain rate is taken from.
     pub velocity_filter: VelocityFilter,
+    /// Which SPH gradient of it.
+    pub velocity_gradient: VelocityGradient,
     /// A hole drilled into the front face along the axis (m; 0: none): the particles whose
     /// centres lie inside it are left out, and the nose starts at its bottom by default if the
     /// projectile fits in it; a pilot hole narrower than the projectile leaves it at the face.
@@ -242,6 +244,28 @@ impl VelocityFilter {
         match self {
             VelocityFilter::None => "none",
             VelocityFilter::Linear => "linear",
+        }
+    }
+}
+
+/// `target.velocity_gradient`: the SPH estimate of the velocity gradient L that updates the
+/// concrete's stress and density (`cpu::sph_rates`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VelocityGradient {
+    /// `Σ_j (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇W` times the inverse moment matrix: exact for a linear
+    /// field, also where the kernel is cut by a free face or the projectile.
+    Corrected,
+    /// `Σ_j (m̃_j/ρ_i)(v_j − v_i) ⊗ ∇W`, uncorrected: the rate whose stress power is the work
+    /// the pair forces (`cpu::sph_forces`) do, so the stress update books the energy the
+    /// motion gives up (README, "The stress update sees more strain than the forces pay for").
+    Conjugate,
+}
+
+impl VelocityGradient {
+    pub fn name(self) -> &'static str {
+        match self {
+            VelocityGradient::Corrected => "corrected",
+            VelocityGradient::Conjugate => "conjugate",
         }
     }
 }
@@ -935,6 +959,7 @@ struct RawTarget {
     viscosity_beta: Option<f64>,
     viscosity_switch: Option<String>,
     velocity_filter: Option<String>,
+    velocity_gradient: Option<String>,
     lead_hole_depth: Option<f64>,
     lead_hole_diameter: Option<f64>,
     concrete: Option<RawHjc>,
@@ -1657,6 +1682,27 @@ fn resolve_target(
             _ => VelocityFilter::Linear,
         },
     };
+    let velocity_gradient = match t.velocity_gradient.as_deref() {
+        None => VelocityGradient::Corrected,
+        Some(name) => match c.choice(
+            "target.velocity_gradient",
+            name,
+            &["corrected", "conjugate"],
+        )? {
+            "corrected" => VelocityGradient::Corrected,
+            _ => VelocityGradient::Conjugate,
+        },
+    };
+    // The filter fits a linear field with the corrected gradient and moves the velocities off
+    // the particles' own: the conjugate rate is the forces' only for the particles' own.
+    if velocity_gradient == VelocityGradient::Conjugate && velocity_filter == VelocityFilter::Linear
+    {
+        return Err(c.conflict(
+            &["target.velocity_gradient", "target.velocity_filter"],
+            "the conjugate gradient takes the particles' own velocities: set \
+             target.velocity_filter = \"none\" with it",
+        ));
+    }
     c.require(
         (5.0e6..=200.0e6).contains(&fc),
         "target.fc",
@@ -1708,6 +1754,7 @@ fn resolve_target(
         viscosity_beta,
         viscosity_switch,
         velocity_filter,
+        velocity_gradient,
         lead_hole_depth,
         lead_hole_diameter,
         concrete: resolve_hjc(c, fc, density, t.concrete.as_ref())?,
@@ -1902,6 +1949,11 @@ impl Scene {
                 "target.velocity_filter",
                 t.velocity_filter.name(),
                 "\"none\" | \"linear\"",
+            );
+            out.text(
+                "target.velocity_gradient",
+                t.velocity_gradient.name(),
+                "\"corrected\" | \"conjugate\"",
             );
             out.line("target.lead_hole_depth", num(t.lead_hole_depth), "m");
             out.line("target.lead_hole_diameter", num(t.lead_hole_diameter), "m");

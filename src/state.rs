@@ -138,6 +138,9 @@ pub struct SphParams {
     /// Take L from the filtered velocity (`target.velocity_filter = "linear"`,
     /// `cpu::sph_rates`).
     pub velocity_filter: bool,
+    /// Take L as the conjugate gradient (`target.velocity_gradient = "conjugate"`,
+    /// `cpu::sph_rates`) instead of the corrected one.
+    pub conjugate_gradient: bool,
     /// Gray–Monaghan artificial stress factor ε (0 = off) and exponent n.
     pub art_stress_eps: f32,
     pub art_stress_n: f32,
@@ -157,6 +160,7 @@ impl SphParams {
             beta: spec.viscosity_beta as f32,
             balsara: spec.viscosity_switch == crate::scene::ViscositySwitch::Balsara,
             velocity_filter: spec.velocity_filter == crate::scene::VelocityFilter::Linear,
+            conjugate_gradient: spec.velocity_gradient == crate::scene::VelocityGradient::Conjugate,
             art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },
             art_stress_n: 4.0,
             w_spacing: kernel.w(spec.spacing as f32),

@@ -300,6 +300,23 @@ fn bad_choices_and_conflicting_keys() {
         &["target.velocity_filter", "\"none\", \"linear\""],
     );
     refused(
+        &smoke_text(),
+        &["target.velocity_gradient=\"dual\""],
+        &["target.velocity_gradient", "\"corrected\", \"conjugate\""],
+    );
+    refused(
+        &smoke_text(),
+        &[
+            "target.velocity_gradient=\"conjugate\"",
+            "target.velocity_filter=\"linear\"",
+        ],
+        &[
+            "target.velocity_gradient",
+            "target.velocity_filter",
+            "particles' own velocities",
+        ],
+    );
+    refused(
         &smoke_with("shape = \"ogive\"", "shape = \"cylinder\""),
         &[],
         &["projectile.crh", "cylinder has no crh"],

@@ -7,6 +7,11 @@
 //! well conditioned; `ρ̇ = −ρ (L_rr + L_zz + v_r/r)`. With the Balsara switch on it also writes
 //! each particle's factor on the viscosity from L (see [`balsara`]).
 //!
+//! With the conjugate gradient (`target.velocity_gradient = "conjugate"`) L is instead
+//! `(1/ρ_i) Σ_j m̃_j (v_j − v_i) ⊗ ∇W`, uncorrected: with it the stress power
+//! `σ_i : L_i / ρ_i` is exactly the share of the pair forces' work that `sph_forces` books to
+//! particle i from its own stress, so the stress update sees the strain the motion pays for.
+//!
 //! With the velocity filter on (`target.velocity_filter = "linear"`, [`filtered_velocity`]) L
 //! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
 //! of its neighbours' departures from the linear field that a first L fits: a linear field
@@ -62,6 +67,8 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let field = Field {
         r,
         z,
+        rho,
+        conjugate: params.conjugate_gradient,
         area,
         grid,
         kernel,
@@ -98,6 +105,9 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
 /// What a gather over the particles reads besides the field gathered.
 struct Field<'a> {
     r: &'a [f32],
+    rho: &'a [f32],
+    /// Gather the conjugate gradient instead of the corrected one.
+    conjugate: bool,
     z: &'a [f32],
     area: &'a [f32],
     grid: &'a CellGrid,
@@ -106,13 +116,18 @@ struct Field<'a> {
 }
 
 impl Field<'_> {
-    /// L = G M⁻¹ at particle i of the velocity field (vr, vz).
+    /// L = G M⁻¹ at particle i of the velocity field (vr, vz); the conjugate gradient, G with
+    /// m̃_j/ρ_i for m̃_j/ρ_j and uncorrected, where `conjugate`.
     fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> [f32; 4] {
         let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
         let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
         for_each_neighbour(self.grid, self.r, self.z, i, self.support, |nb| {
             let j = nb.j;
-            let area = self.area[j];
+            let area = if self.conjugate {
+                self.area[j] * self.rho[j] / self.rho[i]
+            } else {
+                self.area[j]
+            };
             let gw = self.kernel.grad(nb.dr, nb.dz, nb.dist);
             let vrj = if nb.mirror { -vr[j] } else { vr[j] };
             let dvr = vrj - vr[i];
@@ -127,7 +142,11 @@ impl Field<'_> {
             m[2] -= area * nb.dz * gw[0];
             m[3] -= area * nb.dz * gw[1];
         });
-        correct(g, m)
+        if self.conjugate {
+            g
+        } else {
+            correct(g, m)
+        }
     }
 }
 

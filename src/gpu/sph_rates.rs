@@ -47,7 +47,10 @@ impl SphRatesPass {
         params: &SphParams,
     ) -> Result<SphRatesPass, String> {
         let src = gather_source(include_str!("../../shaders/sph_rates.wgsl"));
-        let switch = [("BALSARA", f64::from(u8::from(params.balsara)))];
+        let switch = [
+            ("BALSARA", f64::from(u8::from(params.balsara))),
+            ("CONJUGATE", f64::from(u8::from(params.conjugate_gradient))),
+        ];
         let areas = gpu.kernel_with("sph_rates.areas", &src, "areas", SLOTS, &switch)?;
         let gradient = gpu.kernel_with("sph_rates.gradient", &src, "gradient", SLOTS, &switch)?;
         let p = particles;
@@ -229,6 +232,30 @@ mod tests {
         assert!(change > 1.0e-3, "the filter changes nothing here");
         compare(&filter, true);
         compare(&filter, false);
+    }
+
+    /// With the conjugate gradient (`gradient`'s CONJUGATE branch), on the lists and on the
+    /// grid; it must change the CPU's gradients on this state, or the comparison would not
+    /// test it.
+    #[test]
+    fn sph_rates_with_conjugate_gradient_match_cpu() {
+        let conjugate = ["target.velocity_gradient=\"conjugate\"".to_string()];
+        let sim = smoke(SMOKE_STEPS, &conjugate);
+        let sph = sim.sph.expect("smoke has a target");
+        assert!(sph.conjugate_gradient);
+        let (mut corrected, mut conj) = (sim.particles.clone(), sim.particles.clone());
+        let mut plain = sph;
+        plain.conjugate_gradient = false;
+        crate::cpu::sph_rates::run(&mut corrected, &sim.grid, &plain);
+        crate::cpu::sph_rates::run(&mut conj, &sim.grid, &sph);
+        let change = field_error(&conj.l_zz, &corrected.l_zz);
+        eprintln!("conjugate gradient: L_zz moves by {change:e} of its scale");
+        assert!(
+            change > 1.0e-3,
+            "the conjugate gradient changes nothing here"
+        );
+        compare(&conjugate, true);
+        compare(&conjugate, false);
     }
 
     /// Lists built with a skin and then used after the particles have moved (less than half

@@ -237,9 +237,9 @@ pub(super) fn forrestal(ctx: &mut Context) -> Result<SectionOut, ValidateError> 
         scenes
             .first()
             .and_then(|s| target_options(s))
-            .map_or(String::new(), |(ratio, alpha, beta, stress, switch, filter)| format!(
+            .map_or(String::new(), |(ratio, alpha, beta, stress, switch, filter, gradient)| format!(
                 "SPH with h = {ratio} Δ, viscosity α = {alpha}, β = {beta}, switch `{switch}`, \
-                 velocity filter `{filter}`, artificial stress {}",
+                 velocity filter `{filter}`, velocity gradient `{gradient}`, artificial stress {}",
                 if stress { "on" } else { "off" }
             )),
         if one_set {
@@ -926,10 +926,20 @@ fn one_parameter_set(scenes: &[&Scene]) -> bool {
 }
 
 /// The target's numerical options, which one parameter set keeps alike in every shot: h/Δ,
-/// α, β, artificial stress, the viscosity switch and the velocity filter. The concrete is not
-/// compared: its constants differ between shots by design, through each shot's f_c and the
+/// α, β, artificial stress, the viscosity switch, the velocity filter and gradient. The
+/// concrete is not compared: its constants differ between shots by design, through each shot's f_c and the
 /// rule (explicit `[target.concrete]` overrides are therefore not checked here either).
-fn target_options(scene: &Scene) -> Option<(f64, f64, f64, bool, &'static str, &'static str)> {
+type TargetOptions = (
+    f64,
+    f64,
+    f64,
+    bool,
+    &'static str,
+    &'static str,
+    &'static str,
+);
+
+fn target_options(scene: &Scene) -> Option<TargetOptions> {
     scene.target.as_ref().map(|t| {
         (
             t.smoothing_ratio,
@@ -938,6 +948,7 @@ fn target_options(scene: &Scene) -> Option<(f64, f64, f64, bool, &'static str, &
             t.artificial_stress,
             t.viscosity_switch.name(),
             t.velocity_filter.name(),
+            t.velocity_gradient.name(),
         )
     })
 }
