@@ -213,49 +213,39 @@ mod tests {
         compare(&["target.viscosity_switch=\"balsara\"".into()], true);
     }
 
-    /// With the velocity filter (two `gradient` dispatches around `sph_filter`), on the lists
-    /// and on the grid; the filter must change the CPU's gradients on this state, or the
-    /// comparison would not test it.
-    #[test]
-    fn sph_rates_with_velocity_filter_match_cpu() {
-        let filter = ["target.velocity_filter=\"linear\"".to_string()];
-        let sim = smoke(SMOKE_STEPS, &filter);
+    /// With the option `set` (one scene override), on the lists and on the grid; the option
+    /// must change the CPU's gradients on the smoke state, or the comparison would not test it.
+    /// `plain` turns it off again in the SphParams the scene gave, which must have it on.
+    fn compare_option(set: &str, plain: impl Fn(&mut SphParams) -> bool) {
+        let overrides = [set.to_string()];
+        let sim = smoke(SMOKE_STEPS, &overrides);
         let sph = sim.sph.expect("smoke has a target");
-        assert!(sph.velocity_filter);
-        let (mut raw, mut filtered) = (sim.particles.clone(), sim.particles.clone());
-        let mut plain = sph;
-        plain.velocity_filter = false;
-        crate::cpu::sph_rates::run(&mut raw, &sim.grid, &plain);
-        crate::cpu::sph_rates::run(&mut filtered, &sim.grid, &sph);
-        let change = field_error(&filtered.l_zz, &raw.l_zz);
-        eprintln!("velocity filter: L_zz moves by {change:e} of its scale");
-        assert!(change > 1.0e-3, "the filter changes nothing here");
-        compare(&filter, true);
-        compare(&filter, false);
+        let mut off = sph;
+        assert!(plain(&mut off), "{set} is not on");
+        let (mut without, mut with) = (sim.particles.clone(), sim.particles.clone());
+        crate::cpu::sph_rates::run(&mut without, &sim.grid, &off);
+        crate::cpu::sph_rates::run(&mut with, &sim.grid, &sph);
+        let change = field_error(&with.l_zz, &without.l_zz);
+        eprintln!("{set}: L_zz moves by {change:e} of its scale");
+        assert!(change > 1.0e-3, "{set} changes nothing here");
+        compare(&overrides, true);
+        compare(&overrides, false);
     }
 
-    /// With the conjugate gradient (`gradient`'s CONJUGATE branch), on the lists and on the
-    /// grid; it must change the CPU's gradients on this state, or the comparison would not
-    /// test it.
+    /// With the velocity filter: two `gradient` dispatches around `sph_filter`.
+    #[test]
+    fn sph_rates_with_velocity_filter_match_cpu() {
+        compare_option("target.velocity_filter=\"linear\"", |p| {
+            std::mem::replace(&mut p.velocity_filter, false)
+        });
+    }
+
+    /// With the conjugate gradient: `gradient`'s CONJUGATE branch.
     #[test]
     fn sph_rates_with_conjugate_gradient_match_cpu() {
-        let conjugate = ["target.velocity_gradient=\"conjugate\"".to_string()];
-        let sim = smoke(SMOKE_STEPS, &conjugate);
-        let sph = sim.sph.expect("smoke has a target");
-        assert!(sph.conjugate_gradient);
-        let (mut corrected, mut conj) = (sim.particles.clone(), sim.particles.clone());
-        let mut plain = sph;
-        plain.conjugate_gradient = false;
-        crate::cpu::sph_rates::run(&mut corrected, &sim.grid, &plain);
-        crate::cpu::sph_rates::run(&mut conj, &sim.grid, &sph);
-        let change = field_error(&conj.l_zz, &corrected.l_zz);
-        eprintln!("conjugate gradient: L_zz moves by {change:e} of its scale");
-        assert!(
-            change > 1.0e-3,
-            "the conjugate gradient changes nothing here"
-        );
-        compare(&conjugate, true);
-        compare(&conjugate, false);
+        compare_option("target.velocity_gradient=\"conjugate\"", |p| {
+            std::mem::replace(&mut p.conjugate_gradient, false)
+        });
     }
 
     /// Lists built with a skin and then used after the particles have moved (less than half
