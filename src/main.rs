@@ -9,6 +9,15 @@ use penetrate::scene::{self, Backend, Scene};
 use penetrate::solver::{self, RunOptions};
 use penetrate::{estimate, mesh, sweep, validate};
 
+/// `println!` that gives up quietly when stdout is gone (`penetrate run … | head -1`): the run
+/// goes on and writes its files; `println!` would panic on the broken pipe.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "penetrate",
@@ -207,7 +216,7 @@ fn main() -> ExitCode {
             });
             match result {
                 Ok(records) => {
-                    println!("{}", out.join("sweep.csv").display());
+                    say!("{}", out.join("sweep.csv").display());
                     let failed = records.iter().filter(|r| r.completed().is_none()).count();
                     if failed == 0 {
                         ExitCode::SUCCESS
@@ -253,7 +262,7 @@ fn main() -> ExitCode {
             };
             match validate::run(&opts, &mut |line| eprintln!("{line}")) {
                 Ok(o) => {
-                    println!(
+                    say!(
                         "{} ({} runs, {:.0} s)",
                         o.report.display(),
                         o.runs,
@@ -338,7 +347,7 @@ fn main() -> ExitCode {
                 );
             }
             for a in list {
-                println!(
+                say!(
                     "{} | {} | {} | {} | {}",
                     a.name,
                     a.backend,
@@ -391,7 +400,7 @@ fn main() -> ExitCode {
                     } else {
                         format!(" ({})", s.stop_reason)
                     };
-                    println!(
+                    say!(
                         "{}: {}{reason} after {} steps, t = {:.1} µs, {:.1} s wall on {}",
                         s.scene,
                         s.status,
@@ -405,22 +414,23 @@ fn main() -> ExitCode {
                         }
                     );
                     if scene.target.is_some() {
-                        println!(
+                        say!(
                             "depth {:.4} m, projectile velocity {:.1} m/s",
-                            s.depth_m, s.projectile_velocity_m_s
+                            s.depth_m,
+                            s.projectile_velocity_m_s
                         );
                     } else {
-                        println!(
+                        say!(
                             "final length {:.3} mm, max radius {:.3} mm",
                             s.final_length_m * 1e3,
                             s.max_radius_m * 1e3
                         );
                     }
-                    println!(
+                    say!(
                         "max damage {:.3}, max plastic strain {:.3}, energy error {:.2e}, momentum error {:.2e}",
                         s.max_damage, s.max_plastic_strain, s.energy_error, s.momentum_error
                     );
-                    println!("outputs in {}", out.display());
+                    say!("outputs in {}", out.display());
                     if outcome.ok {
                         ExitCode::SUCCESS
                     } else {

@@ -489,6 +489,30 @@ fn cli_rejects_bad_input_without_panicking() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A reader that goes away (`penetrate run … | head -1`) does not make `run` panic: with its
+/// stdout closed before it prints, the run still completes, exits 0 and writes its summary.
+#[test]
+fn run_survives_a_closed_stdout() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("closed-stdout");
+    let mut child = Command::new(bin)
+        .args(["run", &case("smoke.toml").display().to_string()])
+        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
+        .arg(&dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Closed before the run has loaded its scene, let alone printed its result.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.status.success(), "{err}");
+    assert!(dir.join("summary.json").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The smoke scene on the CPU after five steps: a run under way, for the failure tests.
 fn smoke_after_five_steps() -> Simulation {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
