@@ -68,8 +68,8 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         r,
         z,
         rho,
-        conjugate: params.conjugate_gradient,
         area,
+        conjugate: params.conjugate_gradient,
         grid,
         kernel,
         support,
@@ -105,11 +105,11 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
 /// What a gather over the particles reads besides the field gathered.
 struct Field<'a> {
     r: &'a [f32],
+    z: &'a [f32],
     rho: &'a [f32],
+    area: &'a [f32],
     /// Gather the conjugate gradient instead of the corrected one.
     conjugate: bool,
-    z: &'a [f32],
-    area: &'a [f32],
     grid: &'a CellGrid,
     kernel: &'a crate::kernel::Kernel,
     support: f32,
