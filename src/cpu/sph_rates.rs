@@ -8,9 +8,10 @@
 //! each particle's factor on the viscosity from L (see [`balsara`]).
 //!
 //! With the conjugate gradient (`target.velocity_gradient = "conjugate"`) L is instead
-//! `(1/ρ_i) Σ_j m̃_j (v_j − v_i) ⊗ ∇W`, uncorrected: with it the stress power
-//! `σ_i : L_i / ρ_i` is exactly the share of the pair forces' work that `sph_forces` books to
-//! particle i from its own stress, so the stress update sees the strain the motion pays for.
+//! `(1/ρ_i) Σ_j m̃_j (v_j − v_i) ⊗ ∇W`, uncorrected: with it `−m_i σ_i : L_i / ρ_i` is the work
+//! of the terms in particle i's own stress in all its pair forces (`sph_forces`), so summed
+//! over the particles the stress power is the work the pair forces do, and the stress update
+//! sees the strain the motion pays for.
 //!
 //! With the velocity filter on (`target.velocity_filter = "linear"`, [`filtered_velocity`]) L
 //! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
