@@ -927,8 +927,9 @@ fn one_parameter_set(scenes: &[&Scene]) -> bool {
 
 /// The target's numerical options, which one parameter set keeps alike in every shot: h/Δ,
 /// α, β, artificial stress, the viscosity switch, the velocity filter and gradient. The
-/// concrete is not compared: its constants differ between shots by design, through each shot's f_c and the
-/// rule (explicit `[target.concrete]` overrides are therefore not checked here either).
+/// concrete is not compared: its constants differ between shots by design, through each shot's
+/// f_c and the rule (explicit `[target.concrete]` overrides are therefore not checked here
+/// either).
 type TargetOptions = (
     f64,
     f64,
