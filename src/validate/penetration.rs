@@ -971,7 +971,7 @@ mod tests {
         let other_shot = forrestal(&["projectile.velocity=642", "target.fc=34.7e6"]);
         assert!(one_parameter_set(&[&base, &other_shot]));
         for change in [
-            "target.velocity_filter=\"none\"",
+            "target.velocity_gradient=\"corrected\"",
             "target.viscosity_switch=\"none\"",
             "target.viscosity_alpha=0.5",
             "target.smoothing_ratio=2.0",
