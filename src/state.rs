@@ -21,8 +21,8 @@ pub struct Particles {
     /// Specific internal energy (J/kg): the work the particle forces have done, split pairwise
     /// (`sph_forces`, booked by `integrate`), so that it is the exact counterpart of the motion.
     pub energy: Vec<f32>,
-    /// The same energy as the strain power `σ:ε̇/ρ` of the corrected velocity gradient plus the
-    /// viscous heating (physics.md §3), integrated by `concrete`: a diagnostic only (HJC's
+    /// The same energy as the strain power `σ:ε̇/ρ` of the velocity gradient L plus the viscous
+    /// heating (physics.md §3), integrated by `concrete`: a diagnostic only (HJC's
     /// pressure does not depend on the energy), reported beside the account.
     pub strain_energy: Vec<f32>,
     /// Pressure (Pa, compression positive).
