@@ -82,8 +82,7 @@ struct Gather {
     acc: vec2<f32>,
     // Σ_j m̃_j (T_ij ∇_i W_ij)·(v_i − v_j): the pair work, over 2π m̃_i.
     pair_power: f32,
-    // Σ_j m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij = ρ_i n_i: the hoop source's weight (sph_forces.rs:
-    // it leaves a free face normal to r the push of the particle's own stress).
+    // Σ_j m̃_j (w_i + w_j) ∂_r W_ij = ρ_i n_i: the hoop source's weight.
     hoop_weight: f32,
     heat: f32,
     mu_max: f32,
@@ -112,7 +111,7 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     let wi = sign * ri;
     let wj = sign * rj;
     var t = vec3<f32>(wi * si.x + wj * sj.x, wi * si.y + wj * sj.y, wi * si.z + wj * sign * sj.z);
-    (*g).hoop_weight += mj * (wi + wj - 2.0 * ri) * gw.x;
+    (*g).hoop_weight += mj * (wi + wj) * gw.x;
 
     let vj = kj.zw;
     let dvr = (*g).v.x - sign * vj.x;

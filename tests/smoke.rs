@@ -587,17 +587,14 @@ fn same_bits_on_one_and_two_threads() {
 
 /// `check-stability` on two of its hardest scenes, CPU path: both complete with the energy
 /// account closed to 1 % of the impact energy, no slave left inside the projectile and no
-/// non-finite value, and the table names them. The 2500 m/s shot, and the elements 4× finer
-/// than the lattice, where nose elements fail. (λ = 1 was the second until 26 Nov 2026: since
-/// the hoop-weight fix its account ends 1.05 % over, a failure the suite's own table reports,
-/// README "Stability".)
+/// non-finite value, and the table names them.
 #[test]
 fn stability_suite_runs_and_closes_the_energy() {
     let bin = env!("CARGO_BIN_EXE_penetrate");
     let dir = scratch("stability");
     let out = std::process::Command::new(bin)
         .args(["check-stability", "--backend", "cpu", "--quick", "--only"])
-        .arg("v2500,elements-fine")
+        .arg("v2500,lambda1")
         .arg("--case")
         .arg(case("stability.toml"))
         .arg("--out")
@@ -610,7 +607,7 @@ fn stability_suite_runs_and_closes_the_energy() {
         String::from_utf8_lossy(&out.stderr)
     );
     let table = std::fs::read_to_string(dir.join("stability.md")).unwrap();
-    for name in ["v2500", "elements-fine"] {
+    for name in ["v2500", "lambda1"] {
         assert!(table.contains(&format!("| {name} | cpu |")), "{table}");
         let text = std::fs::read_to_string(dir.join(format!("{name}-cpu/summary.json"))).unwrap();
         let s: serde_json::Value = serde_json::from_str(&text).unwrap();
