@@ -25,6 +25,10 @@
 @group(0) @binding(19) var<storage, read_write> eps_p: array<f32>;
 @group(0) @binding(20) var<storage, read_write> sound: array<f32>;
 
+// concrete.rs MIN_DENSITY_RATIO: the least density continuity may give, a share of the reference;
+// a particle held there fails.
+const MIN_DENSITY_RATIO: f32 = 0.01;
+
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -43,9 +47,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         + 2.0 * s_old.z * d_rz
         + (s_old.w - p_old) * d_tt;
 
-    let rho_new = rho[i] + dt * drho[i];
+    let floor = MIN_DENSITY_RATIO * u.density;
+    let continuity = rho[i] + dt * drho[i];
+    let rho_new = max(continuity, floor);
     let mu = rho_new / u.density - 1.0;
-    let dmg = damage[i];
+    // A particle continuity would take below the floor has separated: it fails.
+    let dmg = select(damage[i], 1.0, continuity < floor);
     let eos = hjc_pressure(u, mu, mu_max[i], dmg);
 
     let dev = deviatoric_rate(vec4<f32>(d_rr, d_zz, d_rz, d_tt));

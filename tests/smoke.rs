@@ -616,6 +616,7 @@ fn stability_suite_runs_and_closes_the_energy() {
         assert!(energy.abs() < 0.01, "{name}: energy error {energy}");
         assert_eq!(s["slaves_inside"], 0, "{name}");
         assert_eq!(s["nonfinite_values"], 0, "{name}");
+        assert!(s["particles_at_density_floor"].is_u64(), "{name}: {text}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -642,4 +643,37 @@ fn a_run_whose_energy_account_comes_apart_is_unstable() {
     assert!(err.contains("step 20"), "{err}");
     sim.particles.vz[i] = f32::NAN;
     assert!(sim.check_energy().is_err());
+}
+
+/// The other guard: a target whose forces have made energy, booked by the account as a
+/// negative internal energy so that the balance still closes, is stopped as unstable.
+#[test]
+fn a_target_that_makes_energy_is_unstable() {
+    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    for _ in 0..20 {
+        sim.step().unwrap();
+    }
+    assert!(sim.check_energy().is_ok(), "{}", sim.energy_error());
+    // One particle given a tenth of the impact energy as speed, its internal energy lowered by
+    // as much: the account still closes, but the target has returned more than was done on it.
+    let e0 = 0.5 * (scene.projectile.velocity as f64).powi(2) * sim.projectile.total_mass;
+    let before = sim.energy_error();
+    let p = &mut sim.particles;
+    let i = p.len() / 2;
+    let kinetic = |p: &penetrate::state::Particles| {
+        0.5 * p.mass[i] as f64 * ((p.vr[i] as f64).powi(2) + (p.vz[i] as f64).powi(2))
+    };
+    let k0 = kinetic(p);
+    p.vz[i] = (2.0 * 0.1 * e0 / p.mass[i] as f64).sqrt() as f32;
+    let gained = kinetic(p) - k0;
+    p.energy[i] -= (gained / p.mass[i] as f64) as f32;
+    assert!(
+        (sim.energy_error() - before).abs() < 1.0e-3,
+        "{}",
+        sim.energy_error()
+    );
+    let err = sim.check_energy().unwrap_err().to_string();
+    assert!(err.contains("energy made in the target"), "{err}");
+    assert!(err.contains(&format!("particle {i} ")), "{err}");
 }

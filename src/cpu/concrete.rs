@@ -9,6 +9,16 @@ use super::sph_rates::hoop_radius;
 use crate::materials::hjc;
 use crate::state::{Particles, SphParams};
 
+/// The least density the continuity update may give a particle, as a share of the concrete's
+/// reference density (WGSL twin: concrete.wgsl). A particle the update would take below it has
+/// separated from its neighbours: it is held there and fails (D = 1), so it carries no stress.
+/// Without the floor the conjugate gradient's density rate, whose in-plane part `−Σ_j m̃_j (v_j
+/// − v_i)·∇W` does not shrink with ρ_i, carries a separating particle through zero to a
+/// negative density; without the failure an undamaged particle held there keeps the tension
+/// cut-off −T, which its neighbours feel as σ/ρ², 10⁴ times what it would be at the
+/// reference density (README, "Choices").
+pub const MIN_DENSITY_RATIO: f32 = 0.01;
+
 pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
     let h = params.h;
     let c = &params.concrete;
@@ -60,7 +70,12 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                     + 2.0 * *srz * d_rz
                     + (*stt - *p) * d_tt;
 
-                *rho += dt * drho[i];
+                let floor = MIN_DENSITY_RATIO * c.density;
+                let continuity = *rho + dt * drho[i];
+                if continuity < floor {
+                    *dmg = 1.0;
+                }
+                *rho = continuity.max(floor);
                 let mu = *rho / c.density - 1.0;
                 let eos = hjc::pressure(c, mu, *mmax, *dmg);
                 *mmax = eos.mu_max;
@@ -97,4 +112,50 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 *e += dt * (0.5 * (old_power + new_power) / *rho + de_visc[i]);
             },
         );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::concrete::tests::{smoke, SMOKE_STEPS};
+
+    /// A particle whose continuity step would remove three times its density (a separating
+    /// particle under the conjugate gradient) is held at the floor, positive, failed and free
+    /// of stress; every other particle's density takes the plain continuity step.
+    #[test]
+    fn a_separating_particle_keeps_a_positive_density() {
+        let mut sim = smoke(SMOKE_STEPS, &[]);
+        let sph = sim.sph.expect("smoke has a target");
+        let dt = sim.dt;
+        let before = sim.particles.clone();
+        let k = before.len() / 2;
+        sim.particles.drho[k] = -3.0 * before.rho[k] / dt;
+        run(&mut sim.particles, &sph, dt);
+        let after = &sim.particles;
+        let floor = MIN_DENSITY_RATIO * sph.concrete.density;
+        assert!(floor > 0.0);
+        assert_eq!(after.rho[k], floor, "held particle");
+        assert!(after.p[k].is_finite() && after.strain_energy[k].is_finite());
+        assert_eq!(after.damage[k], 1.0, "a held particle fails");
+        let stress = [
+            after.p[k],
+            after.s_rr[k],
+            after.s_zz[k],
+            after.s_rz[k],
+            after.s_tt[k],
+        ];
+        // Zero to round-off against the stress it held at the tension cut-off.
+        let tol = 1.0e-6 * sph.concrete.t;
+        assert!(
+            stress.iter().all(|&x| x.abs() <= tol),
+            "held particle's stress {stress:?}"
+        );
+        for i in (0..after.len()).filter(|&i| i != k) {
+            assert_eq!(
+                after.rho[i],
+                before.rho[i] + dt * before.drho[i],
+                "particle {i}"
+            );
+        }
+    }
 }

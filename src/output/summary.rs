@@ -89,6 +89,10 @@ pub struct Summary {
     pub max_residual_penetration_m: f64,
     /// Non-finite values in the final state (`Simulation::nonfinite_values`).
     pub nonfinite_values: usize,
+    /// Particles held at the density floor at the end (`cpu::concrete::MIN_DENSITY_RATIO`):
+    /// debris that separated from its neighbours.
+    #[serde(default)]
+    pub particles_at_density_floor: usize,
     /// Largest speed of a particle or node at the end (m/s).
     pub max_speed_m_s: f64,
     /// GPU runs: how many steps built the SPH neighbour lists (the rest reused them).
