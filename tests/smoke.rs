@@ -621,21 +621,27 @@ fn stability_suite_runs_and_closes_the_energy() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The energy guard: a run whose energy account comes apart is stopped as unstable, with the
-/// step, the time and the fastest particle named; an account that closes passes, and one that
-/// is not a number fails.
-#[test]
-fn a_run_whose_energy_account_comes_apart_is_unstable() {
+/// The smoke scene after 20 steps, its energy guard passed, and its impact energy (J).
+fn smoke_after_20_steps() -> (Simulation, f64) {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     for _ in 0..20 {
         sim.step().unwrap();
     }
     assert!(sim.check_energy().is_ok(), "{}", sim.energy_error());
+    let e0 = 0.5 * (scene.projectile.velocity as f64).powi(2) * sim.projectile.total_mass;
+    (sim, e0)
+}
+
+/// The energy guard: a run whose energy account comes apart is stopped as unstable, with the
+/// step, the time and the fastest particle named; an account that closes passes, and one that
+/// is not a number fails.
+#[test]
+fn a_run_whose_energy_account_comes_apart_is_unstable() {
+    let (mut sim, e0) = smoke_after_20_steps();
     // One particle kicked to a speed that carries about a tenth of the impact energy.
     let p = &mut sim.particles;
     let i = p.len() / 2;
-    let e0 = 0.5 * (scene.projectile.velocity as f64).powi(2) * sim.projectile.total_mass;
     p.vz[i] = (2.0 * 0.1 * e0 / p.mass[i] as f64).sqrt() as f32;
     let err = sim.check_energy().unwrap_err().to_string();
     assert!(err.contains("energy balance lost"), "{err}");
@@ -649,15 +655,9 @@ fn a_run_whose_energy_account_comes_apart_is_unstable() {
 /// negative internal energy so that the balance still closes, is stopped as unstable.
 #[test]
 fn a_target_that_makes_energy_is_unstable() {
-    let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
-    for _ in 0..20 {
-        sim.step().unwrap();
-    }
-    assert!(sim.check_energy().is_ok(), "{}", sim.energy_error());
+    let (mut sim, e0) = smoke_after_20_steps();
     // One particle given a tenth of the impact energy as speed, its internal energy lowered by
     // as much: the account still closes, but the target has returned more than was done on it.
-    let e0 = 0.5 * (scene.projectile.velocity as f64).powi(2) * sim.projectile.total_mass;
     let before = sim.energy_error();
     let p = &mut sim.particles;
     let i = p.len() / 2;
