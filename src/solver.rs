@@ -775,7 +775,7 @@ impl Simulation {
     /// Particles whose density is at the floor the continuity update holds it to.
     pub fn particles_at_density_floor(&self) -> usize {
         self.sph.as_ref().map_or(0, |sph| {
-            let floor = crate::cpu::concrete::MIN_DENSITY_RATIO * sph.concrete.density;
+            let floor = crate::cpu::concrete::density_floor(&sph.concrete);
             self.particles
                 .rho
                 .iter()

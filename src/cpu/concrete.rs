@@ -19,6 +19,11 @@ use crate::state::{Particles, SphParams};
 /// reference density (README, "Choices").
 pub const MIN_DENSITY_RATIO: f32 = 0.01;
 
+/// The density floor of concrete `c` (kg/m³): [`MIN_DENSITY_RATIO`] of its reference density.
+pub fn density_floor(c: &hjc::Hjc) -> f32 {
+    MIN_DENSITY_RATIO * c.density
+}
+
 pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
     let h = params.h;
     let c = &params.concrete;
@@ -46,6 +51,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
     } = particles;
     let (r, vr, l_rr, l_rz, l_zr, l_zz, drho, de_visc) =
         (&*r, &*vr, &*l_rr, &*l_rz, &*l_zr, &*l_zz, &*drho, &*de_visc);
+    let floor = density_floor(c);
     rho.par_iter_mut()
         .zip(strain_energy.par_iter_mut())
         .zip(p.par_iter_mut())
@@ -70,7 +76,6 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                     + 2.0 * *srz * d_rz
                     + (*stt - *p) * d_tt;
 
-                let floor = MIN_DENSITY_RATIO * c.density;
                 let continuity = *rho + dt * drho[i];
                 if continuity < floor {
                     *dmg = 1.0;
@@ -132,7 +137,7 @@ mod tests {
         sim.particles.drho[k] = -3.0 * before.rho[k] / dt;
         run(&mut sim.particles, &sph, dt);
         let after = &sim.particles;
-        let floor = MIN_DENSITY_RATIO * sph.concrete.density;
+        let floor = density_floor(&sph.concrete);
         assert!(floor > 0.0);
         assert_eq!(after.rho[k], floor, "held particle");
         assert!(after.p[k].is_finite() && after.strain_energy[k].is_finite());

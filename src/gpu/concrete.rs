@@ -354,7 +354,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = sim.particles.clone();
         gp.download(&gpu, &mut back).unwrap();
-        let floor = crate::cpu::concrete::MIN_DENSITY_RATIO * sph.concrete.density;
+        let floor = crate::cpu::concrete::density_floor(&sph.concrete);
         assert_eq!(
             cpu.rho[separating], floor,
             "CPU density of the separating particle"
