@@ -13,21 +13,24 @@
 @group(0) @binding(7) var<storage, read> l_zz: array<f32>;
 @group(0) @binding(8) var<storage, read> drho: array<f32>;
 @group(0) @binding(9) var<storage, read> de_visc: array<f32>;
-@group(0) @binding(10) var<storage, read_write> rho: array<f32>;
-@group(0) @binding(11) var<storage, read_write> strain_energy: array<f32>;
-@group(0) @binding(12) var<storage, read_write> p: array<f32>;
-@group(0) @binding(13) var<storage, read_write> s_rr: array<f32>;
-@group(0) @binding(14) var<storage, read_write> s_zz: array<f32>;
-@group(0) @binding(15) var<storage, read_write> s_rz: array<f32>;
-@group(0) @binding(16) var<storage, read_write> s_tt: array<f32>;
-@group(0) @binding(17) var<storage, read_write> damage: array<f32>;
-@group(0) @binding(18) var<storage, read_write> mu_max: array<f32>;
-@group(0) @binding(19) var<storage, read_write> eps_p: array<f32>;
-@group(0) @binding(20) var<storage, read_write> sound: array<f32>;
+@group(0) @binding(10) var<storage, read> hoop_weight: array<f32>;
+@group(0) @binding(11) var<storage, read_write> rho: array<f32>;
+@group(0) @binding(12) var<storage, read_write> strain_energy: array<f32>;
+@group(0) @binding(13) var<storage, read_write> p: array<f32>;
+@group(0) @binding(14) var<storage, read_write> s_rr: array<f32>;
+@group(0) @binding(15) var<storage, read_write> s_zz: array<f32>;
+@group(0) @binding(16) var<storage, read_write> s_rz: array<f32>;
+@group(0) @binding(17) var<storage, read_write> s_tt: array<f32>;
+@group(0) @binding(18) var<storage, read_write> damage: array<f32>;
+@group(0) @binding(19) var<storage, read_write> mu_max: array<f32>;
+@group(0) @binding(20) var<storage, read_write> eps_p: array<f32>;
+@group(0) @binding(21) var<storage, read_write> sound: array<f32>;
 
 // concrete.rs MIN_DENSITY_RATIO: the least density continuity may give, a share of the reference;
 // a particle held there fails.
 const MIN_DENSITY_RATIO: f32 = 0.01;
+// target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
+override CONJUGATE: bool;
 
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -35,7 +38,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= u.n) { return; }
     let dt = clock.dt;
 
-    let d_tt = vr[i] / hoop_radius(r[i], u.kernel.h);
+    // sph_rates.rs hoop_rate: v_r/r, weighted by n_i with the conjugate gradient.
+    var d_tt = vr[i] / hoop_radius(r[i], u.kernel.h);
+    if (CONJUGATE) {
+        d_tt = hoop_weight[i] * d_tt;
+    }
     let d_rr = l_rr[i];
     let d_zz = l_zz[i];
     let d_rz = 0.5 * (l_rz[i] + l_zr[i]);

@@ -2,9 +2,9 @@
 // neighbours and axis ghosts (physics.md §3) in the momentum-conserving ring-mass form derived
 // in the CPU twin's header: a_i = (1/r_i) Σ_j m̃_j [w_i σ_i/ρ_i² + w_j σ_j/ρ_j² − r̄_ij Π_ij I
 // (+ R_ij f_ij^n)] · ∇_i W_ij with w = r for a neighbour and −r for a mirror ghost pair, plus the
-// hoop source a_r += −σ_θθ n_i/(ρ r); Monaghan–Gingold viscosity Π_ij with its heating,
-// Gray–Monaghan artificial stress R when enabled, the Balsara switch on Π when enabled, and the
-// work-conjugate energy rate.
+// hoop source a_r += −σ_θθ n_i/(ρ r) (n_i: hoop_weight, from sph_rates); Monaghan–Gingold
+// viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled, the Balsara
+// switch on Π when enabled, and the work-conjugate energy rate.
 // Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
 // Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
@@ -18,17 +18,18 @@
 @group(0) @binding(13) var<storage, read> sound: array<f32>;
 @group(0) @binding(14) var<storage, read> m_tilde: array<f32>;
 @group(0) @binding(15) var<storage, read> visc_switch: array<f32>;
+@group(0) @binding(16) var<storage, read> hoop_weight: array<f32>;
 // Written by `prologue`, read by `forces`: the state's σ/ρ² and R, and what a neighbour
 // contributes packed for one load each: (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and (c, ρ, factor on Π).
-@group(0) @binding(16) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
-@group(0) @binding(17) var<storage, read_write> art_stress: array<array<f32, 3>>;
-@group(0) @binding(18) var<storage, read_write> pair_s: array<vec4<f32>>;
-@group(0) @binding(19) var<storage, read_write> pair_c: array<vec4<f32>>;
-@group(0) @binding(20) var<storage, read_write> ar: array<f32>;
-@group(0) @binding(21) var<storage, read_write> az: array<f32>;
-@group(0) @binding(22) var<storage, read_write> de_visc: array<f32>;
-@group(0) @binding(23) var<storage, read_write> mu_visc: array<f32>;
-@group(0) @binding(24) var<storage, read_write> de_work: array<f32>;
+@group(0) @binding(17) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
+@group(0) @binding(18) var<storage, read_write> art_stress: array<array<f32, 3>>;
+@group(0) @binding(19) var<storage, read_write> pair_s: array<vec4<f32>>;
+@group(0) @binding(20) var<storage, read_write> pair_c: array<vec4<f32>>;
+@group(0) @binding(21) var<storage, read_write> ar: array<f32>;
+@group(0) @binding(22) var<storage, read_write> az: array<f32>;
+@group(0) @binding(23) var<storage, read_write> de_visc: array<f32>;
+@group(0) @binding(24) var<storage, read_write> mu_visc: array<f32>;
+@group(0) @binding(25) var<storage, read_write> de_work: array<f32>;
 
 // The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
 // constant, so a scene without it compiles without it (a branch not taken still costs on a
@@ -82,8 +83,6 @@ struct Gather {
     acc: vec2<f32>,
     // Σ_j m̃_j (T_ij ∇_i W_ij)·(v_i − v_j): the pair work, over 2π m̃_i.
     pair_power: f32,
-    // Σ_j m̃_j (w_i + w_j) ∂_r W_ij = ρ_i n_i: the hoop source's weight.
-    hoop_weight: f32,
     heat: f32,
     mu_max: f32,
     s: vec3<f32>,
@@ -111,7 +110,6 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     let wi = sign * ri;
     let wj = sign * rj;
     var t = vec3<f32>(wi * si.x + wj * sj.x, wi * si.y + wj * sj.y, wi * si.z + wj * sign * sj.z);
-    (*g).hoop_weight += mj * (wi + wj) * gw.x;
 
     let vj = kj.zw;
     let dvr = (*g).v.x - sign * vj.x;
@@ -152,7 +150,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= u.n) { return; }
     let ki = kin[i];
     let ci = pair_c[i];
-    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw,
+    var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw,
         ci.x, ci.y, ci.z, hoop_radius(ki.x, u.kernel.h));
     if (ART_STRESS) {
         g.art = vec3_of(art_stress[i]);
@@ -160,7 +158,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     for_each_neighbour(&g, i);
 
     let ri = g.ri;
-    let hoop_r = -(s_tt[i] - p[i]) * g.hoop_weight / (ci.y * ci.y * ri);
+    let hoop_r = -(s_tt[i] - p[i]) * hoop_weight[i] / (ci.y * ri);
     de_work[i] = -g.pair_power / (2.0 * ri) - hoop_r * ki.z;
     ar[i] = g.acc.x / ri + hoop_r;
     az[i] = g.acc.y / ri;

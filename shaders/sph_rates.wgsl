@@ -2,7 +2,9 @@
 // L = G M⁻¹ gathered over neighbours and axis ghosts with planar areas m̃/ρ (physics.md §3),
 // corrected where M is well conditioned, and the density rate ρ̇ = −ρ (L_rr + L_zz + v_r/r);
 // with the Balsara switch on, each particle's factor on the viscosity from L. With CONJUGATE,
-// L is the conjugate gradient (1/ρ_i) Σ m̃_j (v_j − v_i) ⊗ ∇W, uncorrected (sph_rates.rs).
+// L is the conjugate gradient (1/ρ_i) Σ m̃_j (v_j − v_i) ⊗ ∇W, uncorrected, and the hoop rate
+// n_i v_r/r (sph_rates.rs). Both modes write the hoop weight
+// n_i = Σ m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i, which sph_forces and concrete read.
 // Two entry points over one binding list: `areas` (m̃ and m̃/ρ per particle), then `gradient`.
 // Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
@@ -19,6 +21,7 @@
 @group(0) @binding(15) var<storage, read_write> l_zz: array<f32>;
 @group(0) @binding(16) var<storage, read_write> drho: array<f32>;
 @group(0) @binding(17) var<storage, read_write> visc_switch: array<f32>;
+@group(0) @binding(18) var<storage, read_write> hoop_weight: array<f32>;
 
 // The Balsara switch is on (SphParams::balsara): a pipeline constant, as ART_STRESS in
 // sph_forces.wgsl. Off, visc_switch keeps the 1 it was uploaded with.
@@ -46,11 +49,14 @@ fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {
 // (rr, rz, zr, zz).
 // v is particle i's velocity and rho_i its density, loaded once (a driver may not hoist loads
 // out of the loop).
+// weight: Σ m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij with w = ±r as in sph_forces; ri: hoop_radius(r_i).
 struct Gather {
     g: vec4<f32>,
     m: vec4<f32>,
     v: vec2<f32>,
     rho_i: f32,
+    ri: f32,
+    weight: f32,
 }
 
 fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
@@ -66,6 +72,9 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
     // Products in the CPU's order, (a v) w, for the closest agreement.
     (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
     (*acc).m -= vec4<f32>(a * d.x * gw.x, a * d.x * gw.y, a * d.y * gw.x, a * d.y * gw.y);
+    let ri = (*acc).ri;
+    let rj = hoop_radius(kin[j].x, u.kernel.h);
+    (*acc).weight += m_tilde[j] * (sign * ri + sign * rj - 2.0 * ri) * gw.x;
 }
 
 // sph_rates.rs `correct`: L = G M⁻¹ where det M is large enough, else G.
@@ -88,7 +97,7 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
     let ki = kin[i];
-    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), ki.zw, rho[i]);
+    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), ki.zw, rho[i], hoop_radius(ki.x, u.kernel.h), 0.0);
     for_each_neighbour(&acc, i);
     var l = acc.g;
     if (!CONJUGATE) {
@@ -98,7 +107,13 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     l_rz[i] = l.y;
     l_zr[i] = l.z;
     l_zz[i] = l.w;
-    let div = l.x + l.w + ki.z / hoop_radius(ki.x, u.kernel.h);
+    let n = acc.weight / rho[i];
+    hoop_weight[i] = n;
+    var hoop_rate = ki.z / acc.ri;
+    if (CONJUGATE) {
+        hoop_rate = n * hoop_rate;
+    }
+    let div = l.x + l.w + hoop_rate;
     drho[i] = -rho[i] * div;
     if (BALSARA) {
         // sph_rates.rs `balsara`.

@@ -57,6 +57,10 @@ pub struct Particles {
     /// Per-radian-area mass m̃ = m/(2π r) and planar area m̃/ρ, from `sph_rates`.
     pub m_tilde: Vec<f32>,
     pub area: Vec<f32>,
+    /// The hoop weight `n_i = Σ_j m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i` (≈ 1; about ½ at a
+    /// free face normal to r), from `sph_rates`: the hoop source's weight in `sph_forces`, and
+    /// with the conjugate gradient the weight on the hoop rate `v_r/r` as well.
+    pub hoop_weight: Vec<f32>,
     /// Total stress over ρ² (rr, zz, rz) and the Gray–Monaghan artificial stress, from the
     /// start of `sph_forces`.
     pub stress_rho2: Vec<[f32; 3]>,
@@ -118,6 +122,7 @@ impl Particles {
             visc_switch: vec![1.0; n],
             m_tilde: zero.clone(),
             area: zero,
+            hoop_weight: vec![1.0; n],
             stress_rho2: vec![[0.0; 3]; n],
             art_stress: vec![[0.0; 3]; n],
             fixed,

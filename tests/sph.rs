@@ -42,6 +42,20 @@ fn target(spec: &TargetSpec) -> (Particles, SphParams) {
 
 /// A target at rest with no projectile stays at rest: |v| < 1e-6 m/s after 1000 steps, the
 /// particles next to the axis included.
+/// The free target of `spec(false)` without artificial stress, its neighbour grid built and
+/// `sph_rates` run on it (at rest: the areas and hoop weights `sph_forces` reads), and the
+/// kernel's support.
+fn free_target_with_rates() -> (TargetSpec, Particles, SphParams, neighbours::CellGrid, f32) {
+    let mut s = spec(false);
+    s.artificial_stress = false;
+    let (mut p, params) = target(&s);
+    let mut grid = neighbours::CellGrid::default();
+    let support = integrate::support(&params);
+    neighbours::run(&mut grid, &p.r, &p.z, support);
+    sph_rates::run(&mut p, &grid, &params);
+    (s, p, params, grid, support)
+}
+
 #[test]
 fn target_at_rest_stays_at_rest() {
     let s = spec(true);
@@ -261,13 +275,7 @@ fn conjugate_gradient_stress_power_is_the_forces_work() {
 ///   21 % and 15 %).
 #[test]
 fn stress_fields_give_the_cylindrical_divergence() {
-    let mut s = spec(false);
-    s.artificial_stress = false;
-    let (mut p, params) = target(&s);
-    let mut grid = neighbours::CellGrid::default();
-    let support = integrate::support(&params);
-    neighbours::run(&mut grid, &p.r, &p.z, support);
-    sph_rates::run(&mut p, &grid, &params);
+    let (s, mut p, params, grid, support) = free_target_with_rates();
     let rho = p.rho[0];
     let interior: Vec<usize> = (0..p.len())
         .filter(|&i| {
@@ -329,6 +337,56 @@ fn stress_fields_give_the_cylindrical_divergence() {
             "σ_rz = kr: particle {i} in row {row}: a_z off by {rel}"
         );
     }
+}
+
+/// A free face pushes out under a uniform pressure the same whichever way it faces: the lateral
+/// face (normal to r) as the front face (normal to z). On the square lattice the first and
+/// second columns in from the lateral face see the same truncated support as the first and
+/// second rows in from the front face, so a_r there must equal a_z there (to 1e-3 of it), and
+/// point outward. And a surface particle at twice its neighbours' pressure is pushed outward,
+/// not drawn in. (The hoop source once cancelled the lateral push, `sph_forces`: a_r was 0 and
+/// the over-pressured particle was pulled inward at 8e6 m/s².)
+#[test]
+fn lateral_face_pushes_out_as_the_front_face() {
+    let (s, mut p, params, grid, support) = free_target_with_rates();
+    p.p.iter_mut().for_each(|x| *x = 1.0e8);
+    sph_forces::run(&mut p, &grid, &params);
+    let dx = s.spacing as f32;
+    let (radius, depth) = (s.radius as f32, s.thickness as f32);
+    let full_z = |i: usize| p.z[i] + support < 0.0 && p.z[i] - support > -depth;
+    let full_r = |i: usize| p.r[i] > support && p.r[i] + support < radius;
+    for layer in 0..2 {
+        let inset = (layer as f32 + 0.5) * dx;
+        let front: Vec<f32> = (0..p.len())
+            .filter(|&i| (p.z[i] + inset).abs() < 0.1 * dx && full_r(i))
+            .map(|i| p.az[i])
+            .collect();
+        let lateral: Vec<f32> = (0..p.len())
+            .filter(|&i| (p.r[i] - (radius - inset)).abs() < 0.1 * dx && full_z(i))
+            .map(|i| p.ar[i])
+            .collect();
+        assert!(front.len() > 5 && lateral.len() > 5);
+        let push = front[0];
+        assert!(push > 1.0e5, "front face, layer {layer}: a_z {push}");
+        for a in front.iter().chain(&lateral) {
+            assert!(
+                (a / push - 1.0).abs() < 1e-3,
+                "layer {layer}: a {a} against the front face's {push}"
+            );
+        }
+    }
+    let k = (0..p.len())
+        .find(|&i| {
+            (p.r[i] - (radius - 0.5 * dx)).abs() < 0.1 * dx && (p.z[i] + 0.5 * depth).abs() < dx
+        })
+        .unwrap();
+    p.p[k] = 2.0e8;
+    sph_forces::run(&mut p, &grid, &params);
+    assert!(
+        p.ar[k] > 1.0e6,
+        "over-pressured surface particle: a_r {}",
+        p.ar[k]
+    );
 }
 
 /// A slug of particles next to the axis driven at 277 m/s into the rest of a free target (no

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use super::deviator::{deviatoric_rate, equivalent_rate, jaumann_trial, von_mises};
-use super::sph_rates::hoop_radius;
+use super::sph_rates::hoop_rate;
 use crate::materials::hjc;
 use crate::state::{Particles, SphParams};
 
@@ -25,7 +25,6 @@ pub fn density_floor(c: &hjc::Hjc) -> f32 {
 }
 
 pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
-    let h = params.h;
     let c = &params.concrete;
     let Particles {
         r,
@@ -47,10 +46,20 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
         l_zz,
         drho,
         de_visc,
+        hoop_weight,
         ..
     } = particles;
-    let (r, vr, l_rr, l_rz, l_zr, l_zz, drho, de_visc) =
-        (&*r, &*vr, &*l_rr, &*l_rz, &*l_zr, &*l_zz, &*drho, &*de_visc);
+    let (r, vr, l_rr, l_rz, l_zr, l_zz, drho, de_visc, hoop_weight) = (
+        &*r,
+        &*vr,
+        &*l_rr,
+        &*l_rz,
+        &*l_zr,
+        &*l_zz,
+        &*drho,
+        &*de_visc,
+        &*hoop_weight,
+    );
     let floor = density_floor(c);
     rho.par_iter_mut()
         .zip(strain_energy.par_iter_mut())
@@ -66,7 +75,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
         .enumerate()
         .for_each(
             |(i, ((((((((((rho, e), p), srr), szz), srz), stt), dmg), mmax), ep), snd))| {
-                let d_tt = vr[i] / hoop_radius(r[i], h);
+                let d_tt = hoop_rate(params, hoop_weight[i], vr[i], r[i]);
                 let d_rr = l_rr[i];
                 let d_zz = l_zz[i];
                 let d_rz = 0.5 * (l_rz[i] + l_zr[i]);

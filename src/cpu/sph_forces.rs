@@ -7,8 +7,15 @@
 //! the mirror image of the force between j and i's ghost with its axial part reversed, so the
 //! axial momentum Σ m v_z is conserved to round-off. The acceleration is `F/m`; the pair part is
 //! `∇·σ/ρ` in the plane plus `σ·e_r/(ρ r)`, so the only hoop source left is
-//! `a_r += −σ_θθ/(ρ r) · n_i` with `n_i = Σ_j m̃_j (w_i + w_j) ∂_r W_ij / ρ_i` (≈ 1), which makes
-//! a uniform pressure exert no force on any lattice, near the axis included.
+//! `a_r += −σ_θθ/(ρ r) · n_i` with `n_i = Σ_j m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i` (≈ 1;
+//! `Particles::hoop_weight`, gathered by `sph_rates` at the same positions).
+//! For a uniform stress the pair part is `σ n_i/(ρ r) + 2 σ Σ_j m̃_j ∂_r W_ij / ρ²`: the first
+//! term is the `σ·e_r/(ρ r)` the hoop source balances, so a uniform pressure exerts no force
+//! where the support is full (the interior, and next to the axis with its ghosts); the second
+//! is zero there and, at a free face normal to r (the lateral face, a crater's wall), the push
+//! of the particle's own stress against the empty side, the same as the plane's sum gives at a
+//! face normal to z. Weighted by `w_i + w_j` alone, the hoop source cancelled that push, and a
+//! surface particle's excess pressure pulled it toward its neighbours (README, "Stability").
 //!
 //! Why these ghost weights: `w_j = −r_j` (r σ is odd across the axis) keeps `∂σ_zz/∂z`
 //! consistent on the first rows (`w_j = +r_j` would make it 67 % too strong on the first row);
@@ -60,6 +67,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         mu_visc,
         visc_switch,
         m_tilde,
+        hoop_weight,
         stress_rho2,
         art_stress,
         ..
@@ -86,7 +94,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 );
             }
         });
-    let (r, z, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, sigma, art) = (
+    let (r, z, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
         &*r,
         &*z,
         &*vr,
@@ -97,6 +105,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         &*sound,
         &*visc_switch,
         &*m_tilde,
+        &*hoop_weight,
         &*stress_rho2,
         &*art_stress,
     );
@@ -114,8 +123,6 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             let mut pair_power = 0.0f32;
             let mut heat = 0.0f32;
             let mut mu_max = 0.0f32;
-            // Σ_j m̃_j (w_i + w_j) ∂_r W_ij = ρ_i n_i, the hoop source's weight.
-            let mut hoop_weight = 0.0f32;
             for_each_neighbour(grid, r, z, i, support, |nb| {
                 let j = nb.j;
                 let sign = if nb.mirror { -1.0 } else { 1.0 };
@@ -130,7 +137,6 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                     wi * si[1] + wj * sj[1],
                     wi * si[2] + wj * sign * sj[2],
                 ];
-                hoop_weight += mj * (wi + wj) * gw[0];
 
                 let dvr = vr[i] - sign * vr[j];
                 let dvz = vz[i] - vz[j];
@@ -165,7 +171,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 acc[1] += pair[1];
                 pair_power += pair[0] * dvr + pair[1] * dvz;
             });
-            let hoop_r = -(s_tt[i] - p[i]) * hoop_weight / (rho[i] * rho[i] * ri);
+            let hoop_r = -(s_tt[i] - p[i]) * hoop_weight[i] / (rho[i] * ri);
             *work = -pair_power / (2.0 * ri) - hoop_r * vr[i];
             *ar = acc[0] / ri + hoop_r;
             *az = acc[1] / ri;

@@ -11,7 +11,10 @@
 //! `(1/ρ_i) Σ_j m̃_j (v_j − v_i) ⊗ ∇W`, uncorrected: with it `−m_i σ_i : L_i / ρ_i` is the work
 //! of the terms in particle i's own stress in all its pair forces (`sph_forces`), so summed
 //! over the particles the stress power is the work the pair forces do, and the stress update
-//! sees the strain the motion pays for.
+//! sees the strain the motion pays for. The hoop rate is then `n_i v_r/r`, n_i the hoop
+//! source's weight (`Particles::hoop_weight`, gathered here for `sph_forces` too), because the
+//! hoop source does work `n_i σ_θθ v_r/r` per unit mass: near 1 inside, about ½ at a free face
+//! normal to r, where L's normal part falls short by the same missing half of the kernel.
 //!
 //! With the velocity filter on (`target.velocity_filter = "linear"`, [`filtered_velocity`]) L
 //! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
@@ -34,6 +37,18 @@ pub fn hoop_radius(r: f32, h: f32) -> f32 {
     r.max(0.1 * h)
 }
 
+/// The hoop strain rate the continuity and stress updates take: `v_r/r`, or with the conjugate
+/// gradient `n v_r/r`, n the particle's hoop weight (module header).
+#[inline]
+pub fn hoop_rate(params: &SphParams, hoop_weight: f32, vr: f32, r: f32) -> f32 {
+    let rate = vr / hoop_radius(r, params.h);
+    if params.conjugate_gradient {
+        hoop_weight * rate
+    } else {
+        rate
+    }
+}
+
 pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let h = params.h;
     let kernel = &params.kernel;
@@ -52,6 +67,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         drho,
         m_tilde,
         area,
+        hoop_weight,
         sound,
         visc_switch,
         ..
@@ -64,12 +80,15 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *mt = mass[i] / (TWO_PI * hoop_radius(r[i], h));
             *a = *mt / rho[i];
         });
-    let (r, z, vr, vz, rho, area, sound) = (&*r, &*z, &*vr, &*vz, &*rho, &*area, &*sound);
+    let (r, z, vr, vz, rho, m_tilde, area, sound) =
+        (&*r, &*z, &*vr, &*vz, &*rho, &*m_tilde, &*area, &*sound);
     let field = Field {
         r,
         z,
         rho,
+        m_tilde,
         area,
+        h,
         conjugate: params.conjugate_gradient,
         grid,
         kernel,
@@ -88,14 +107,16 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         .zip(l_zz.par_iter_mut())
         .zip(drho.par_iter_mut())
         .zip(visc_switch.par_iter_mut())
+        .zip(hoop_weight.par_iter_mut())
         .enumerate()
-        .for_each(|(i, (((((lrr, lrz), lzr), lzz), dr_out), f))| {
-            let l = field.gradient(i, vr, vz);
+        .for_each(|(i, ((((((lrr, lrz), lzr), lzz), dr_out), f), n))| {
+            let (l, weight) = field.gradient(i, vr, vz);
             *lrr = l[0];
             *lrz = l[1];
             *lzr = l[2];
             *lzz = l[3];
-            let div = l[0] + l[3] + vr[i] / hoop_radius(r[i], h);
+            *n = weight;
+            let div = l[0] + l[3] + hoop_rate(params, weight, vr[i], r[i]);
             *dr_out = -rho[i] * div;
             if params.balsara {
                 *f = balsara(div, l[1] - l[2], sound[i], h);
@@ -108,7 +129,9 @@ struct Field<'a> {
     r: &'a [f32],
     z: &'a [f32],
     rho: &'a [f32],
+    m_tilde: &'a [f32],
     area: &'a [f32],
+    h: f32,
     /// Gather the conjugate gradient instead of the corrected one.
     conjugate: bool,
     grid: &'a CellGrid,
@@ -118,12 +141,17 @@ struct Field<'a> {
 
 impl Field<'_> {
     /// L = G M⁻¹ at particle i of the velocity field (vr, vz); the conjugate gradient, G with
-    /// m̃_j/ρ_i for m̃_j/ρ_j and uncorrected, where `conjugate`.
-    fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> [f32; 4] {
+    /// m̃_j/ρ_i for m̃_j/ρ_j and uncorrected, where `conjugate`. And i's hoop weight
+    /// `n_i = Σ_j m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i` (w = ±r as in `sph_forces`).
+    fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> ([f32; 4], f32) {
         let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
         let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
+        let ri = hoop_radius(self.r[i], self.h);
+        let mut weight = 0.0f32;
         for_each_neighbour(self.grid, self.r, self.z, i, self.support, |nb| {
             let j = nb.j;
+            let sign = if nb.mirror { -1.0 } else { 1.0 };
+            let rj = hoop_radius(self.r[j], self.h);
             let area = if self.conjugate {
                 self.area[j] * self.rho[j] / self.rho[i]
             } else {
@@ -142,12 +170,10 @@ impl Field<'_> {
             m[1] -= area * nb.dr * gw[1];
             m[2] -= area * nb.dz * gw[0];
             m[3] -= area * nb.dz * gw[1];
+            weight += self.m_tilde[j] * (sign * ri + sign * rj - 2.0 * ri) * gw[0];
         });
-        if self.conjugate {
-            g
-        } else {
-            correct(g, m)
-        }
+        let l = if self.conjugate { g } else { correct(g, m) };
+        (l, weight / self.rho[i])
     }
 }
 
@@ -162,7 +188,7 @@ fn filtered_velocity(field: &Field, vr: &[f32], vz: &[f32]) -> (Vec<f32>, Vec<f3
     (0..vr.len())
         .into_par_iter()
         .map(|i| {
-            let l = field.gradient(i, vr, vz);
+            let (l, _) = field.gradient(i, vr, vz);
             let mut weight = kernel.w(0.0) * field.area[i];
             let (mut sum_r, mut sum_z) = (0.0f32, 0.0f32);
             for_each_neighbour(field.grid, field.r, field.z, i, field.support, |nb| {

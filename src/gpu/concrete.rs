@@ -4,6 +4,7 @@
 
 use super::state::GpuParticles;
 use super::{source, Gpu, Kernel, Slot};
+use crate::state::SphParams;
 
 /// The WGSL of the concrete pass: the uniform blocks, the deviatoric helpers shared with
 /// `fem_stress`, the HJC law, then `pass`.
@@ -16,11 +17,11 @@ fn hjc_source(pass: &str) -> String {
     ])
 }
 
-/// Bindings of shaders/concrete.wgsl: SphUniform, the clock, 8 read fields, 11 written.
-const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 9), (Slot::ReadWrite, 11)];
+/// Bindings of shaders/concrete.wgsl: SphUniform, the clock, 9 read fields, 11 written.
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 10), (Slot::ReadWrite, 11)];
 
 /// The HJC update of every particle over the clock's Δt: reads r, vr, the velocity gradient,
-/// drho and de_visc; advances rho, energy, p, the deviator, damage, mu_max, eps_p and sound.
+/// drho, de_visc and (with the conjugate gradient) hoop_weight; advances rho, energy, p, the deviator, damage, mu_max, eps_p and sound.
 pub struct ConcretePass {
     kernel: Kernel,
     bind: wgpu::BindGroup,
@@ -33,9 +34,11 @@ impl ConcretePass {
         particles: &GpuParticles,
         sph_uniform: &wgpu::Buffer,
         clock: &wgpu::Buffer,
+        params: &SphParams,
     ) -> Result<ConcretePass, String> {
         let src = hjc_source(include_str!("../../shaders/concrete.wgsl"));
-        let kernel = gpu.kernel("concrete", &src, "main", SLOTS)?;
+        let conjugate = [("CONJUGATE", f64::from(u8::from(params.conjugate_gradient)))];
+        let kernel = gpu.kernel_with("concrete", &src, "main", SLOTS, &conjugate)?;
         let p = particles;
         let bind = kernel.bind(
             gpu,
@@ -50,6 +53,7 @@ impl ConcretePass {
                 &p.l_zz,
                 &p.drho,
                 &p.de_visc,
+                &p.hoop_weight,
                 &p.rho,
                 &p.strain_energy,
                 &p.p,
@@ -332,14 +336,34 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     /// negative: both hold it at the floor and fail it.
     #[test]
     fn concrete_matches_cpu() {
+        compare(&[]);
+    }
+
+    /// With the conjugate gradient, whose hoop rate is weighted by each particle's hoop weight
+    /// (the smoke state's, which differs from 1 at its free faces).
+    #[test]
+    fn concrete_with_conjugate_gradient_matches_cpu() {
+        compare(&["target.velocity_gradient=\"conjugate\"".into()]);
+    }
+
+    fn compare(overrides: &[String]) {
         let gpu = test_gpu();
-        let mut sim = smoke(SMOKE_STEPS, &[]);
+        let mut sim = smoke(SMOKE_STEPS, overrides);
         let sph = sim.sph.expect("smoke has a target");
         let dt = sim.dt;
         let separating = sim.particles.len() / 3;
         sim.particles.drho[separating] = -3.0 * sim.particles.rho[separating] / dt;
         let mut cpu = sim.particles.clone();
         crate::cpu::concrete::run(&mut cpu, &sph, dt);
+        if sph.conjugate_gradient {
+            // The hoop weight must matter here, or the comparison would not test it.
+            let mut unweighted = sim.particles.clone();
+            unweighted.hoop_weight.fill(1.0);
+            crate::cpu::concrete::run(&mut unweighted, &sph, dt);
+            let change = field_error(&unweighted.s_tt, &cpu.s_tt);
+            eprintln!("concrete: the hoop weight moves s_tt by {change:e} of its scale");
+            assert!(change > 1.0e-3, "the hoop weight changes nothing here");
+        }
         let n = branches(&sim.particles, &cpu, &sph.concrete);
         eprintln!("concrete smoke branches (plastic, crushed, locked, cut-off, damaged): {n:?}");
         assert!(
@@ -350,7 +374,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let clock = gpu.buffer("clock", &[dt.to_bits(), 0u32]);
-        let pass = ConcretePass::new(&gpu, &gp, &uniform, &clock).unwrap();
+        let pass = ConcretePass::new(&gpu, &gp, &uniform, &clock, &sph).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = sim.particles.clone();
         gp.download(&gpu, &mut back).unwrap();

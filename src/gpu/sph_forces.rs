@@ -5,10 +5,10 @@ use super::state::GpuParticles;
 use super::{Gpu, Kernel, Slot};
 
 /// Bindings of shaders/sph_forces.wgsl, shared by both entry points: SphUniform, the grid
-/// (GridInfo, cell_start, sorted), kin and the lists, 9 read fields, then what `prologue`
+/// (GridInfo, cell_start, sorted), kin and the lists, 10 read fields, then what `prologue`
 /// writes for `forces` (stress_rho2, art_stress, pair_s, pair_c) and the five outputs of
 /// `forces`.
-const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 15), (Slot::ReadWrite, 9)];
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 16), (Slot::ReadWrite, 9)];
 
 /// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
 /// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
@@ -53,6 +53,7 @@ impl SphForcesPass {
             &p.sound,
             &p.m_tilde,
             &p.visc_switch,
+            &p.hoop_weight,
             &p.stress_rho2,
             &p.art_stress,
             &pair_s,

@@ -7,8 +7,8 @@ use crate::state::SphParams;
 
 /// Bindings of shaders/sph_rates.wgsl: SphUniform, the grid (GridInfo, cell_start, sorted),
 /// kin and the lists, mass, rho and sound, then m_tilde and area (written by `areas`, read by
-/// `gradient`) and the 6 outputs of `gradient`.
-const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 9), (Slot::ReadWrite, 8)];
+/// `gradient`) and the 7 outputs of `gradient`.
+const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 9), (Slot::ReadWrite, 9)];
 
 /// Bindings of shaders/sph_filter.wgsl: SphUniform, the grid and lists with kin, area and L,
 /// then the filtered kinematics.
@@ -16,8 +16,8 @@ const FILTER_SLOTS: &[(Slot, usize)] =
     &[(Slot::Uniform, 1), (Slot::Read, 11), (Slot::ReadWrite, 1)];
 
 /// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
-/// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz and drho, and
-/// visc_switch when the Balsara switch is on. With the velocity filter, `gradient` runs twice:
+/// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz, drho and
+/// hoop_weight, and visc_switch when the Balsara switch is on. With the velocity filter, `gradient` runs twice:
 /// first on the particles' velocities, then, after `sph_filter` has written the filtered
 /// velocities in kin's layout, on those.
 pub struct SphRatesPass {
@@ -69,6 +69,7 @@ impl SphRatesPass {
                 &p.l_zz,
                 &p.drho,
                 &p.visc_switch,
+                &p.hoop_weight,
             ];
             areas.bind(
                 gpu,
@@ -141,6 +142,7 @@ mod tests {
             &mut start.l_zr,
             &mut start.l_zz,
             &mut start.drho,
+            &mut start.hoop_weight,
         ] {
             v.fill(f32::NAN);
         }
@@ -164,6 +166,7 @@ mod tests {
         for (name, a, b) in [
             ("m_tilde", &back.m_tilde, &cpu.m_tilde),
             ("area", &back.area, &cpu.area),
+            ("hoop_weight", &back.hoop_weight, &cpu.hoop_weight),
         ] {
             let e = field_error(a, b);
             eprintln!("sph_rates {name}: relative error {e:e}");

@@ -39,7 +39,7 @@ mirror!(GpuParticles, Particles, len = r, [
     strain_energy: f32,
     p: f32, s_rr: f32, s_zz: f32, s_rz: f32, s_tt: f32, damage: f32, mu_max: f32, eps_p: f32,
     sound: f32, l_rr: f32, l_rz: f32, l_zr: f32, l_zz: f32, drho: f32, de_visc: f32, de_work: f32,
-    mu_visc: f32, visc_switch: f32, m_tilde: f32, area: f32, stress_rho2: [f32; 3], art_stress: [f32; 3],
+    mu_visc: f32, visc_switch: f32, m_tilde: f32, area: f32, hoop_weight: f32, stress_rho2: [f32; 3], art_stress: [f32; 3],
     fixed: u32,
 ]);
 
@@ -100,6 +100,7 @@ mod tests {
             &mut p.visc_switch,
             &mut p.m_tilde,
             &mut p.area,
+            &mut p.hoop_weight,
         ] {
             *v = (0..n).map(|i| i as f32 * 0.25).collect();
         }
@@ -113,5 +114,6 @@ mod tests {
         assert_eq!(back.stress_rho2, p.stress_rho2);
         assert_eq!(back.fixed, p.fixed);
         assert_eq!(back.area, p.area);
+        assert_eq!(back.hoop_weight, p.hoop_weight);
     }
 }

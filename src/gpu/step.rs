@@ -223,8 +223,13 @@ impl GpuStep {
                     &sph_uniform,
                     params,
                 )?;
-                let concrete =
-                    super::concrete::ConcretePass::new(&gpu, &particles, &sph_uniform, &clock)?;
+                let concrete = super::concrete::ConcretePass::new(
+                    &gpu,
+                    &particles,
+                    &sph_uniform,
+                    &clock,
+                    params,
+                )?;
                 let forces = super::sph_forces::SphForcesPass::new(
                     &gpu,
                     &particles,
