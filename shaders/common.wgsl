@@ -47,3 +47,10 @@ fn kernel_grad(k: KernelParams, d: vec2<f32>, dist: f32) -> vec2<f32> {
 fn hoop_radius(ri: f32, h: f32) -> f32 {
     return max(ri, 0.1 * h);
 }
+
+// sph_rates::hoop_rate: the hoop strain rate v_r/r, weighted by the hoop weight n with the
+// conjugate gradient.
+fn hoop_rate(vr: f32, ri: f32, h: f32, n: f32, conjugate: bool) -> f32 {
+    let rate = vr / hoop_radius(ri, h);
+    return select(rate, n * rate, conjugate);
+}

@@ -38,11 +38,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= u.n) { return; }
     let dt = clock.dt;
 
-    // sph_rates.rs hoop_rate: v_r/r, weighted by n_i with the conjugate gradient.
-    var d_tt = vr[i] / hoop_radius(r[i], u.kernel.h);
-    if (CONJUGATE) {
-        d_tt = hoop_weight[i] * d_tt;
-    }
+    let d_tt = hoop_rate(vr[i], r[i], u.kernel.h, hoop_weight[i], CONJUGATE);
     let d_rr = l_rr[i];
     let d_zz = l_zz[i];
     let d_rz = 0.5 * (l_rz[i] + l_zr[i]);

@@ -109,11 +109,7 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     l_zz[i] = l.w;
     let n = acc.weight / rho[i];
     hoop_weight[i] = n;
-    var hoop_rate = ki.z / acc.ri;
-    if (CONJUGATE) {
-        hoop_rate = n * hoop_rate;
-    }
-    let div = l.x + l.w + hoop_rate;
+    let div = l.x + l.w + hoop_rate(ki.z, ki.x, u.kernel.h, n, CONJUGATE);
     drho[i] = -rho[i] * div;
     if (BALSARA) {
         // sph_rates.rs `balsara`.

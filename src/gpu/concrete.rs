@@ -21,7 +21,8 @@ fn hjc_source(pass: &str) -> String {
 const SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 10), (Slot::ReadWrite, 11)];
 
 /// The HJC update of every particle over the clock's Δt: reads r, vr, the velocity gradient,
-/// drho, de_visc and (with the conjugate gradient) hoop_weight; advances rho, energy, p, the deviator, damage, mu_max, eps_p and sound.
+/// drho, de_visc and (with the conjugate gradient) hoop_weight; advances rho, energy, p, the
+/// deviator, damage, mu_max, eps_p and sound.
 pub struct ConcretePass {
     kernel: Kernel,
     bind: wgpu::BindGroup,

@@ -17,9 +17,9 @@ const FILTER_SLOTS: &[(Slot, usize)] =
 
 /// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
 /// over the grid's neighbours and axis ghosts and writes l_rr, l_rz, l_zr, l_zz, drho and
-/// hoop_weight, and visc_switch when the Balsara switch is on. With the velocity filter, `gradient` runs twice:
-/// first on the particles' velocities, then, after `sph_filter` has written the filtered
-/// velocities in kin's layout, on those.
+/// hoop_weight, and visc_switch when the Balsara switch is on. With the velocity filter,
+/// `gradient` runs twice: first on the particles' velocities, then, after `sph_filter` has
+/// written the filtered velocities in kin's layout, on those.
 pub struct SphRatesPass {
     areas: Kernel,
     gradient: Kernel,
