@@ -23,7 +23,8 @@
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
 //!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara"),
-//!   `velocity_filter` ("none" | "linear"), `velocity_gradient` ("corrected" | "conjugate"),
+//!   `velocity_filter` ("none" | "linear"; "linear" needs `velocity_gradient = "corrected"`),
+//!   `velocity_gradient` ("conjugate" | "corrected"),
 //!   `lead_hole_depth` (0), `lead_hole_diameter` (projectile.diameter; narrower: a pilot hole,
 //!   the nose starts at the face)
 //! - `[target.concrete]` (optional) any [`Hjc`] field but `density` and `fc`, over
@@ -1683,7 +1684,7 @@ fn resolve_target(
         },
     };
     let velocity_gradient = match t.velocity_gradient.as_deref() {
-        None => VelocityGradient::Corrected,
+        None => VelocityGradient::Conjugate,
         Some(name) => match c.choice(
             "target.velocity_gradient",
             name,
@@ -1699,8 +1700,9 @@ fn resolve_target(
     {
         return Err(c.conflict(
             &["target.velocity_gradient", "target.velocity_filter"],
-            "the conjugate gradient takes the particles' own velocities: set \
-             target.velocity_filter = \"none\" with it",
+            "the conjugate gradient (the default) takes the particles' own velocities: \
+             set target.velocity_filter = \"none\", or target.velocity_gradient = \
+             \"corrected\" to filter",
         ));
     }
     c.require(
@@ -2082,6 +2084,8 @@ mod tests {
         assert_eq!(s.run.backend, Backend::Auto);
         assert_eq!(s.contact.lambda, 0.2);
         assert_eq!(s.contact.slave_radius_factor, 1.5);
+        assert_eq!(t.velocity_gradient, VelocityGradient::Conjugate);
+        assert_eq!(t.velocity_filter, VelocityFilter::None);
         let steel = &s.projectile.material;
         let a = f64::from(steel.strength.a);
         assert!((a / 1161.0e6 - 1.0).abs() < 0.005, "A(Rc 45) = {a}");

@@ -191,22 +191,28 @@ fn gpu_depth_matches_cpu_on_a_short_penetration() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The same with the velocity filter and the Balsara switch on: the GPU's filter pass and its
-/// second gradient dispatch give the CPU's depth within 0.5 %, and the filter moves the depth
-/// (or this would not test it).
+/// The same with the velocity filter and the Balsara switch on (and the corrected gradient,
+/// which the filter takes): the GPU's filter pass and its second gradient dispatch give the
+/// CPU's depth within 0.5 %, and the filter moves the depth (or this would not test it).
 #[test]
 fn gpu_depth_matches_cpu_with_the_velocity_filter() {
     let dir =
         std::env::temp_dir().join(format!("penetrate-test-{}-gpu-filter", std::process::id()));
+    let corrected = "target.velocity_gradient=\"corrected\"";
     let (cpu, _) = short_penetration(
         &[
+            corrected,
             "target.velocity_filter=\"linear\"",
             "target.viscosity_switch=\"balsara\"",
         ],
         &dir,
     );
     let unfiltered = short_run(
-        &smoke(&["run.end_time=1e-4", "target.viscosity_switch=\"balsara\""]),
+        &smoke(&[
+            "run.end_time=1e-4",
+            corrected,
+            "target.viscosity_switch=\"balsara\"",
+        ]),
         &dir.join("unfiltered"),
         Backend::Cpu,
     );

@@ -316,6 +316,18 @@ fn bad_choices_and_conflicting_keys() {
             "particles' own velocities",
         ],
     );
+    // The conjugate gradient is the default: the filter alone is refused too, and the message
+    // names the way to filter.
+    refused(
+        &smoke_text(),
+        &["target.velocity_filter=\"linear\""],
+        &[
+            "target.velocity_gradient",
+            "target.velocity_filter",
+            "(the default)",
+            "\"corrected\" to filter",
+        ],
+    );
     refused(
         &smoke_with("shape = \"ogive\"", "shape = \"cylinder\""),
         &[],

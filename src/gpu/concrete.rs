@@ -340,11 +340,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         compare(&[]);
     }
 
-    /// With the conjugate gradient, whose hoop rate is weighted by each particle's hoop weight
-    /// (the smoke state's, which differs from 1 at its free faces).
+    /// With the corrected gradient, whose hoop rate is v_r/r (the default conjugate one's,
+    /// which `concrete_matches_cpu` compares, is weighted by each particle's hoop weight).
     #[test]
-    fn concrete_with_conjugate_gradient_matches_cpu() {
-        compare(&["target.velocity_gradient=\"conjugate\"".into()]);
+    fn concrete_with_corrected_gradient_matches_cpu() {
+        compare(&["target.velocity_gradient=\"corrected\"".into()]);
     }
 
     fn compare(overrides: &[String]) {

@@ -216,38 +216,44 @@ mod tests {
         compare(&["target.viscosity_switch=\"balsara\"".into()], true);
     }
 
-    /// With the option `set` (one scene override), on the lists and on the grid; the option
-    /// must change the CPU's gradients on the smoke state, or the comparison would not test it.
+    /// With the option `set` (scene overrides), on the lists and on the grid; the option must
+    /// change the CPU's gradients on the smoke state, or the comparison would not test it.
     /// `plain` turns it off again in the SphParams the scene gave, which must have it on.
-    fn compare_option(set: &str, plain: impl Fn(&mut SphParams) -> bool) {
-        let overrides = [set.to_string()];
+    fn compare_option(set: &[&str], plain: impl Fn(&mut SphParams) -> bool) {
+        let overrides: Vec<String> = set.iter().map(|s| s.to_string()).collect();
         let sim = smoke(SMOKE_STEPS, &overrides);
         let sph = sim.sph.expect("smoke has a target");
         let mut off = sph;
-        assert!(plain(&mut off), "{set} is not on");
+        assert!(plain(&mut off), "{set:?} is not on");
         let (mut without, mut with) = (sim.particles.clone(), sim.particles.clone());
         crate::cpu::sph_rates::run(&mut without, &sim.grid, &off);
         crate::cpu::sph_rates::run(&mut with, &sim.grid, &sph);
         let change = field_error(&with.l_zz, &without.l_zz);
-        eprintln!("{set}: L_zz moves by {change:e} of its scale");
-        assert!(change > 1.0e-3, "{set} changes nothing here");
+        eprintln!("{set:?}: L_zz moves by {change:e} of its scale");
+        assert!(change > 1.0e-3, "{set:?} changes nothing here");
         compare(&overrides, true);
         compare(&overrides, false);
     }
 
-    /// With the velocity filter: two `gradient` dispatches around `sph_filter`.
+    /// With the velocity filter (which takes the corrected gradient): two `gradient`
+    /// dispatches around `sph_filter`.
     #[test]
     fn sph_rates_with_velocity_filter_match_cpu() {
-        compare_option("target.velocity_filter=\"linear\"", |p| {
-            std::mem::replace(&mut p.velocity_filter, false)
-        });
+        compare_option(
+            &[
+                "target.velocity_gradient=\"corrected\"",
+                "target.velocity_filter=\"linear\"",
+            ],
+            |p| std::mem::replace(&mut p.velocity_filter, false),
+        );
     }
 
-    /// With the conjugate gradient: `gradient`'s CONJUGATE branch.
+    /// With the corrected gradient: `gradient` without its CONJUGATE branch (the default,
+    /// which `sph_rates_match_cpu` compares, takes it).
     #[test]
-    fn sph_rates_with_conjugate_gradient_match_cpu() {
-        compare_option("target.velocity_gradient=\"conjugate\"", |p| {
-            std::mem::replace(&mut p.conjugate_gradient, false)
+    fn sph_rates_with_corrected_gradient_match_cpu() {
+        compare_option(&["target.velocity_gradient=\"corrected\""], |p| {
+            !std::mem::replace(&mut p.conjugate_gradient, true)
         });
     }
 
