@@ -901,6 +901,7 @@ impl Simulation {
             max_plastic_strain: self.max_plastic_strain(),
             hits: self.last_hits,
             damage_area: self.damage_area(),
+            plastic_work: self.account.plastic_work,
         }
     }
 
