@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use penetrate::scene::{self, Backend};
-use penetrate::solver::{self, RunOptions, Simulation};
+use penetrate::scene;
+use penetrate::solver::Simulation;
 
 mod common;
 
@@ -25,17 +25,7 @@ fn scratch(name: &str) -> PathBuf {
 fn smoke_case_runs_with_finite_fields() {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let out = scratch("smoke");
-    let outcome = solver::run(
-        &scene,
-        &RunOptions {
-            out: out.clone(),
-            quiet: true,
-            vtk: true,
-            backend: Some(Backend::Cpu),
-            adapter: None,
-        },
-    )
-    .unwrap();
+    let outcome = common::run_cpu(&scene, &out, true);
     let s = &outcome.summary;
     assert!(outcome.ok, "status: {}", s.status);
     assert_eq!(s.status, "completed");
@@ -99,17 +89,7 @@ fn history_carries_the_plastic_work() {
     ];
     let scene = scene::load(&case("smoke.toml"), &set).unwrap();
     let out = scratch("history-work");
-    let outcome = solver::run(
-        &scene,
-        &RunOptions {
-            out: out.clone(),
-            quiet: true,
-            vtk: false,
-            backend: Some(Backend::Cpu),
-            adapter: None,
-        },
-    )
-    .unwrap();
+    let outcome = common::run_cpu(&scene, &out, false);
     assert!(outcome.ok, "status: {}", outcome.summary.status);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();

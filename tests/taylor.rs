@@ -3,8 +3,9 @@
 
 use std::path::Path;
 
-use penetrate::scene::{self, Backend};
-use penetrate::solver::{self, RunOptions};
+use penetrate::scene;
+
+mod common;
 
 /// Measured final length of the 4340 bar at 208 m/s (taylor.csv), mm.
 const MEASURED_LENGTH_MM: f64 = 22.48;
@@ -16,17 +17,7 @@ fn taylor_4340_final_length_matches_the_measurement() {
     let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-4340-208.toml");
     let scene = scene::load(&case, &["projectile.element_size=0.000762".to_string()]).unwrap();
     let out = std::env::temp_dir().join(format!("penetrate-test-{}-taylor", std::process::id()));
-    let outcome = solver::run(
-        &scene,
-        &RunOptions {
-            out: out.clone(),
-            quiet: true,
-            vtk: false,
-            backend: Some(Backend::Cpu),
-            adapter: None,
-        },
-    )
-    .unwrap();
+    let outcome = common::run_cpu(&scene, &out, false);
     let s = &outcome.summary;
     assert!(outcome.ok, "{}", s.status);
     let length_mm = s.final_length_m * 1e3;

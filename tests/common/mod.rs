@@ -1,6 +1,25 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests (each test crate uses some of them).
+#![allow(dead_code)]
 
-use penetrate::solver::Simulation;
+use std::path::Path;
+
+use penetrate::scene::{Backend, Scene};
+use penetrate::solver::{self, RunOptions, RunOutcome, Simulation};
+
+/// `penetrate run` of `scene` on the CPU path into `out`, quiet, with or without VTK frames.
+pub fn run_cpu(scene: &Scene, out: &Path, vtk: bool) -> RunOutcome {
+    solver::run(
+        scene,
+        &RunOptions {
+            out: out.to_path_buf(),
+            quiet: true,
+            vtk,
+            backend: Some(Backend::Cpu),
+            adapter: None,
+        },
+    )
+    .unwrap()
+}
 
 /// `err` names the entity of `sim` whose own stable step is the least, and where it is.
 pub fn assert_smallest_step_named(sim: &Simulation, err: &str) {
