@@ -902,6 +902,7 @@ impl Simulation {
             hits: self.last_hits,
             damage_area: self.damage_area(),
             plastic_work: self.account.plastic_work,
+            checkerboard: self.projectile.elements.max_checkerboard() as f64,
         }
     }
 
@@ -995,6 +996,7 @@ impl Simulation {
             max_damage_shank: self.max_damage_shank(),
             max_plastic_strain: self.max_plastic_strain(),
             max_plastic_strain_shank: self.max_plastic_strain_shank(),
+            checkerboard_pa: self.projectile.elements.max_checkerboard() as f64,
             final_length_m: length,
             max_radius_m: radius,
             time_s: self.time,

@@ -80,9 +80,10 @@ fn smoke_case_runs_with_finite_fields() {
 
 /// `history.csv` carries the projectile's plastic work: it never falls (each element's increment
 /// σ_y Δε_p V ≥ 0), and its last row, written after the final sync, is the summary's. At 800 m/s
-/// the smoke scene's nose yields by 0.1 ms.
+/// the smoke scene's nose yields by 0.1 ms. The cells' pressure checkerboard is there too, and
+/// its last row is the summary's.
 #[test]
-fn history_carries_the_plastic_work() {
+fn history_carries_the_plastic_work_and_the_checkerboard() {
     let set = [
         "projectile.velocity=800".to_string(),
         "run.end_time=1e-4".to_string(),
@@ -94,22 +95,31 @@ fn history_carries_the_plastic_work() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let mut lines = history.lines();
-    let column = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .position(|c| c == "plastic_work_J")
-        .expect("history.csv has plastic_work_J");
-    let work: Vec<f64> = lines
-        .map(|l| l.split(',').nth(column).unwrap().parse().unwrap())
-        .collect();
+    let column_of = |name: &str| -> Vec<f64> {
+        let mut lines = history.lines();
+        let k = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("history.csv has no {name}"));
+        lines
+            .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+            .collect()
+    };
+    let work = column_of("plastic_work_J");
     assert!(work.windows(2).all(|w| w[1] >= w[0]), "{work:?}");
     let last = *work.last().unwrap();
     assert!(last > 0.0, "the nose yields: {last} J");
     assert_eq!(
         last,
         json["energy"]["plastic_work_projectile"].as_f64().unwrap()
+    );
+    let checkerboard = column_of("checkerboard_Pa");
+    assert!(checkerboard.iter().all(|&c| c.is_finite() && c >= 0.0));
+    assert_eq!(
+        *checkerboard.last().unwrap(),
+        json["checkerboard_pa"].as_f64().unwrap()
     );
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -23,9 +23,11 @@ pub struct Row {
     pub damage_area: f64,
     /// Plastic work done in the projectile so far (J, the sum over its elements).
     pub plastic_work: f64,
+    /// Largest pressure checkerboard in a crossed-triangle cell (Pa, `Elements::max_checkerboard`).
+    pub checkerboard: f64,
 }
 
-pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J";
+pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa";
 
 pub struct History {
     out: BufWriter<File>,
@@ -41,7 +43,7 @@ impl History {
     pub fn write(&mut self, r: &Row) -> io::Result<()> {
         writeln!(
             self.out,
-            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e}",
+            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e}",
             r.time,
             r.step,
             r.dt,
@@ -55,7 +57,8 @@ impl History {
             r.max_plastic_strain,
             r.hits,
             r.damage_area,
-            r.plastic_work
+            r.plastic_work,
+            r.checkerboard
         )
     }
 

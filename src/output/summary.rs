@@ -64,6 +64,10 @@ pub struct Summary {
     /// written before it existed.
     #[serde(default)]
     pub max_plastic_strain_shank: f64,
+    /// Largest pressure checkerboard in a crossed-triangle cell at the end (Pa,
+    /// `Elements::max_checkerboard`). 0 in summaries written before it existed.
+    #[serde(default)]
+    pub checkerboard_pa: f64,
     pub final_length_m: f64,
     pub max_radius_m: f64,
     pub time_s: f64,
