@@ -232,6 +232,10 @@ impl Elements {
         self.nodes.len()
     }
 
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
     /// The largest pressure checkerboard inside one crossed-triangle cell (Pa):
     /// |p₀ − p₁ + p₂ − p₃| / 4 over the cells, a cell being four consecutive elements that share
     /// their third node (its centre, the mesher's order), none of them failed. A smooth field
@@ -247,10 +251,6 @@ impl Elements {
             })
             .map(|((_, p), _)| ((p[0] - p[1] + p[2] - p[3]) / 4.0).abs())
             .fold(0.0, f32::max)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
     }
 }
 
