@@ -1,6 +1,7 @@
 //! Up-front estimates for `penetrate check`: counts, stable step, step count, memory.
 
 use crate::cpu::fem_stress::Geometry;
+use crate::materials::hjc;
 use crate::mesh::{self, ProjectileMesh};
 use crate::scene::{Scene, TargetSpec};
 use crate::state::FemParams;
@@ -52,7 +53,8 @@ fn particle_count(t: &TargetSpec) -> usize {
         t.lead_hole_depth,
         t.lead_hole_diameter,
     );
-    cols.saturating_mul(rows).saturating_sub(drilled)
+    // A lattice whose count overflows cannot be built, hole or not.
+    cols.checked_mul(rows).map_or(usize::MAX, |n| n - drilled)
 }
 
 /// Memory this machine can give a run (bytes): MemAvailable of /proc/meminfo, or 8 GiB where it
@@ -81,7 +83,11 @@ pub fn check_fits(s: &Scene) -> Result<Footprint, String> {
         return Err(format!(
             "the scene needs ≈ {:.1} GiB for {} particles, {} nodes and {} elements, more than this machine can give (≈ {:.1} GiB available): coarsen target.spacing or projectile.element_size, or shrink the target",
             f.bytes / GIB,
-            f.particles,
+            if f.particles == usize::MAX {
+                format!("more than {:.1e}", usize::MAX as f64)
+            } else {
+                f.particles.to_string()
+            },
             f.nodes,
             f.elements,
             available / GIB
@@ -120,12 +126,12 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
             let slave_cols =
                 ((s.contact.slave_radius_factor * r_max / t.spacing).ceil() as usize).min(cols);
             let c = &t.concrete;
-            let c_dense =
-                ((c.k1 as f64 + 4.0 / 3.0 * c.shear_modulus as f64) / c.density as f64).sqrt();
+            let k = hjc::stiffest_tangent_to_lock(c) as f64;
+            let c_dense = ((k + 4.0 / 3.0 * c.shear_modulus as f64) / c.density as f64).sqrt();
             let h = t.spacing * t.smoothing_ratio;
             (
                 particle_count(t),
-                slave_cols * rows,
+                slave_cols.saturating_mul(rows),
                 h / (c_dense * (1.0 + 1.2 * t.viscosity_alpha)),
             )
         }
@@ -144,5 +150,45 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
         dt,
         steps: steps.min(s.run.max_steps),
         bytes,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn smoke(overrides: &[&str]) -> Scene {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/smoke.toml");
+        let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        crate::scene::load(&path, &sets).unwrap()
+    }
+
+    /// The target's step is set by the stiffest EOS tangent the concrete can reach: K₁ for the
+    /// reference constants, the elastic P_crush/μ_crush when that is stiffer (it is the sound
+    /// speed every particle starts with), so `check` does not promise 10⁴ times too few steps.
+    #[test]
+    fn sph_step_follows_the_stiffest_tangent() {
+        let sph_step = |s: &Scene| {
+            let m = mesh::projectile::build(&s.projectile).unwrap();
+            estimate(s, &m).dt_sph
+        };
+        let wave = |k: f64, s: &Scene| {
+            let t = s.target.as_ref().unwrap();
+            let c = ((k + 4.0 / 3.0 * t.concrete.shear_modulus as f64) / t.concrete.density as f64)
+                .sqrt();
+            t.spacing * t.smoothing_ratio / (c * (1.0 + 1.2 * t.viscosity_alpha))
+        };
+        let reference = smoke(&[]);
+        let k1 = reference.target.as_ref().unwrap().concrete.k1 as f64;
+        let got = sph_step(&reference);
+        assert!((got / wave(k1, &reference) - 1.0).abs() < 1e-6, "{got}");
+        // μ_crush 1e-9: K_el = 1.2e16 Pa, 10⁵ times K₁.
+        let stiff = smoke(&["target.concrete.mu_crush=1e-9"]);
+        let t = stiff.target.as_ref().unwrap();
+        let k_el = t.concrete.p_crush as f64 / t.concrete.mu_crush as f64;
+        assert!(k_el > 1e5 * k1);
+        let got = sph_step(&stiff);
+        assert!((got / wave(k_el, &stiff) - 1.0).abs() < 1e-5, "{got}");
     }
 }

@@ -506,7 +506,7 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 e.particles, e.slaves
             );
             out += &format!(
-                "# stable step ≈ {:.3e} s (FEM {:.3e}, SPH {:.3e} at full compaction) → ≈ {} steps to end_time\n",
+                "# stable step ≈ {:.3e} s (FEM {:.3e}, SPH {:.3e} at the stiffest EOS tangent up to locking) → ≈ {} steps to end_time\n",
                 e.dt, e.dt_fem, e.dt_sph, e.steps
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));

@@ -120,6 +120,17 @@ pub fn lock_strain(h: &Hjc) -> f32 {
     h.mu_lock + (1.0 + h.mu_lock) * mu_bar
 }
 
+/// The stiffest tangent [`pressure`] gives up to the start of full compaction: the elastic K_el =
+/// P_crush/μ_crush, the crushing slope, or K₁ (the unloading modulus at locking), whichever is
+/// largest. For up-front estimates of the stable step (`penetrate check`); past locking the
+/// dense slope grows beyond K₁/(1 + μ_lock) only with further compression.
+pub fn stiffest_tangent_to_lock(h: &Hjc) -> f32 {
+    let k_el = h.p_crush / h.mu_crush;
+    let mu_plock = lock_strain(h);
+    let crushing_slope = (h.p_lock - h.p_crush) / (mu_plock - h.mu_crush).max(f32::MIN_POSITIVE);
+    k_el.max(crushing_slope).max(h.k1)
+}
+
 /// Result of the HJC equation of state with its compaction history.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HjcEos {

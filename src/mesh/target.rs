@@ -72,7 +72,9 @@ fn in_hole(r: f32, z: f32, depth: f64, diameter: f64) -> bool {
 }
 
 /// How many particles [`drill`] leaves out of the [`lattice`] of these sizes, counted without
-/// building it (`penetrate check`): the columns in the hole times the rows in it.
+/// building it (`penetrate check`): the columns in the hole times the rows in it. Each is found
+/// by bisection on the f32 centres, so a lattice far too fine to build is counted at once (its
+/// memory estimate refuses it).
 pub fn drilled_count(
     radius: f64,
     thickness: f64,
@@ -82,13 +84,24 @@ pub fn drilled_count(
 ) -> usize {
     let (cols, rows) = lattice_count(radius, thickness, spacing);
     let centre = |i: usize| ((i as f64 + 0.5) * spacing) as f32;
-    let in_cols = (0..cols)
-        .take_while(|&i| in_hole(centre(i), 0.0, f64::INFINITY, diameter))
-        .count();
-    let in_rows = (0..rows)
-        .take_while(|&k| in_hole(0.0, -centre(k), depth, f64::INFINITY))
-        .count();
-    in_cols * in_rows
+    let in_cols = leading(cols, |i| in_hole(centre(i), 0.0, f64::INFINITY, diameter));
+    let in_rows = leading(rows, |k| in_hole(0.0, -centre(k), depth, f64::INFINITY));
+    in_cols.saturating_mul(in_rows)
+}
+
+/// How many of 0..n lead the range holding `inside`, for a predicate that holds on a prefix
+/// (the centres grow with the index, so a hole's columns and rows are a prefix).
+fn leading(n: usize, inside: impl Fn(usize) -> bool) -> usize {
+    let (mut lo, mut hi) = (0, n);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if inside(mid) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
 }
 
 /// Drills a lead hole into the front face along the axis: leaves out every particle whose centre
@@ -197,6 +210,19 @@ mod tests {
                 "spacing {spacing}, depth {depth}, diameter {diameter}"
             );
         }
+    }
+
+    /// A spacing far too fine to build is counted at once, not column by column (a linear walk
+    /// over its 10²⁸ columns hung `penetrate check`).
+    #[test]
+    fn drilled_count_of_an_absurd_lattice_is_immediate() {
+        assert_eq!(drilled_count(0.04, 0.05, 1e-30, 0.0, 0.02), 0);
+        assert_eq!(drilled_count(0.04, 0.05, 1e-30, 0.01, 0.02), usize::MAX);
+        // 1e-9 m: 4e7 columns, 2e6 of them in the hole; 5e7 rows, 1e7 in it.
+        assert_eq!(
+            drilled_count(0.04, 0.05, 1e-9, 0.01, 0.004),
+            2_000_000 * 10_000_000
+        );
     }
 
     fn whole_index(t: &TargetLattice, r: f32, z: f32) -> usize {
