@@ -48,10 +48,20 @@ pub fn run(
         .target
         .as_ref()
         .ok_or_else(|| format!("{}: bench needs a scene with a target", case.display()))?;
+    if steps == 0 {
+        return Err("bench --steps 0: at least one timed step".into());
+    }
+    // The target's spacing may not exceed the projectile's radius (one particle per radius).
+    let radius = 0.5 * base.projectile.diameter;
+    let fewest = ((target.radius * target.thickness / (radius * radius)).ceil() as usize).max(100);
     let mut rows = Vec::new();
     for &n in sizes {
-        if n < 100 {
-            return Err(format!("bench size {n}: at least 100 particles"));
+        if n < fewest {
+            return Err(format!(
+                "bench size {n}: {} needs at least {fewest} particles (a spacing of at most \
+                 the projectile's radius, {radius} m)",
+                case.display()
+            ));
         }
         let spacing = (target.radius * target.thickness / n as f64).sqrt();
         let set = vec![format!("target.spacing={spacing:e}")];
@@ -81,7 +91,7 @@ pub fn run(
                 }
             };
             let timed = match backend {
-                Backend::Cpu => (2_000_000 / sim.particles.len().max(1)).clamp(3, steps),
+                Backend::Cpu => (2_000_000 / sim.particles.len().max(1)).max(3).min(steps),
                 _ => steps,
             };
             for _ in 0..5 {

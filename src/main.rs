@@ -323,14 +323,9 @@ fn main() -> ExitCode {
             steps,
         } => {
             let backends = backends(backend, adapter.as_deref(), "bench");
-            match penetrate::bench::run(
-                &case,
-                &sizes,
-                &backends,
-                adapter.as_deref(),
-                steps.max(1),
-                |m| eprintln!("{m}"),
-            ) {
+            match penetrate::bench::run(&case, &sizes, &backends, adapter.as_deref(), steps, |m| {
+                eprintln!("{m}")
+            }) {
                 Ok(rows) => {
                     print!("{}", penetrate::bench::table(&rows));
                     ExitCode::SUCCESS

@@ -720,3 +720,29 @@ fn a_target_that_makes_energy_is_unstable() {
     assert!(err.contains("energy made in the target"), "{err}");
     assert!(err.contains(&format!("particle {i} ")), "{err}");
 }
+
+/// `bench` refuses a step count or a size it cannot time with a message, never a panic (a CPU
+/// row's step count used to be clamped into 3..=steps, which panicked below 3), and times a
+/// single step at the smallest size the case allows.
+#[test]
+fn bench_refuses_what_it_cannot_time() {
+    use penetrate::bench;
+    use penetrate::scene::Backend;
+    let case = case("forrestal1994-277.toml");
+    let run =
+        |sizes: &[usize], steps| bench::run(&case, sizes, &[Backend::Cpu], None, steps, |_| {});
+    let err = run(&[2000], 0).unwrap_err();
+    assert!(err.contains("--steps 0"), "{err}");
+    // 0.4 m × 0.76 m at a spacing of at most the 13.45 mm radius: 1681 particles or more.
+    let err = run(&[1680], 10).unwrap_err();
+    assert!(
+        err.contains("bench size 1680") && err.contains("1681"),
+        "{err}"
+    );
+    let rows = run(&[1681], 1).unwrap();
+    assert_eq!(rows.len(), 1);
+    let row = &rows[0];
+    assert!(row.refused.is_none(), "{:?}", row.refused);
+    assert_eq!(row.steps, 1);
+    assert!(row.ms_per_step > 0.0 && row.particles > 1000);
+}
