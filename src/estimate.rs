@@ -105,6 +105,7 @@ pub struct Estimate {
     pub dt_fem: f64,
     pub dt_sph: f64,
     pub dt: f64,
+    /// Steps to `run.end_time` at the estimated step (not capped by `run.max_steps`).
     pub steps: u64,
     pub bytes: usize,
 }
@@ -148,7 +149,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
         dt_fem,
         dt_sph,
         dt,
-        steps: steps.min(s.run.max_steps),
+        steps,
         bytes,
     }
 }

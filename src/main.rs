@@ -500,8 +500,16 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 "# target: {} particles, {} slaves (approx.)\n",
                 e.particles, e.slaves
             );
+            let cap = if e.steps > s.run.max_steps {
+                format!(
+                    "; more than run.max_steps = {}, where the run will stop",
+                    s.run.max_steps
+                )
+            } else {
+                String::new()
+            };
             out += &format!(
-                "# stable step ≈ {:.3e} s (FEM {:.3e}, SPH {:.3e} at the stiffest EOS tangent up to locking) → ≈ {} steps to end_time\n",
+                "# stable step ≈ {:.3e} s (FEM {:.3e}, SPH {:.3e} at the stiffest EOS tangent up to locking) → ≈ {} steps to end_time{cap}\n",
                 e.dt, e.dt_fem, e.dt_sph, e.steps
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));

@@ -525,6 +525,21 @@ fn cli_rejects_bad_input_without_panicking() {
         text.contains("projectile.velocity") && text.contains("particles"),
         "{text}"
     );
+    assert!(!text.contains("where the run will stop"), "{text}");
+    // A concrete whose elastic modulus is 10⁷ times K₁ needs 1.6·10⁶ steps of 1.2e-11 s; the
+    // estimate says so, and that the run will stop at max_steps first.
+    let out = Command::new(bin)
+        .args(["check", &case("smoke.toml").display().to_string()])
+        .args(["--set", "target.concrete.mu_crush=1e-12"])
+        .args(["--set", "run.max_steps=100000"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("more than run.max_steps = 100000, where the run will stop"),
+        "{text}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
