@@ -1806,6 +1806,9 @@ fn resolve_hjc(c: &Check, fc: f64, density: f64, raw: Option<&RawHjc>) -> Result
             crate::materials::hjc::GRAIN_DENSITY
         ),
     )?;
+    if let Some(why) = crate::materials::hjc::dense_curve_fault(&h) {
+        return Err(c.conflict(&[&key("k1"), &key("k2"), &key("k3"), &key("p_lock")], &why));
+    }
     Ok(h)
 }
 

@@ -111,13 +111,82 @@ fn dense_slope(h: &Hjc, mu_bar: f32) -> f32 {
 /// 1993, Fig. 3). μ_lock itself is where the fully dense curve crosses p = 0, so the crushing line
 /// must end here, not at μ_lock, for the EOS to be continuous (see [`pressure`]). ≈ 0.11055 for
 /// the reference set. Depends on the constants only; a caller may compute it once.
+///
+/// Constants far from the reference set, for which Newton's steps have not converged, get the
+/// root by bisection on [0, [`MAX_LOCK_MU_BAR`]] instead; the scene's check
+/// ([`dense_curve_fault`]) has made sure the curve rises monotonically to P_lock there.
 pub fn lock_strain(h: &Hjc) -> f32 {
     let mut mu_bar = h.p_lock / h.k1;
     for _ in 0..LOCK_NEWTON_STEPS {
         let slope = dense_slope(h, mu_bar).max(0.1 * h.k1);
         mu_bar -= (dense_pressure(h, mu_bar) - h.p_lock) / slope;
     }
+    // Written so that a NaN residual counts as not converged.
+    let converged = (dense_pressure(h, mu_bar) - h.p_lock).abs() <= LOCK_TOLERANCE * h.p_lock;
+    if !converged {
+        mu_bar = dense_root(h) as f32;
+    }
     h.mu_lock + (1.0 + h.mu_lock) * mu_bar
+}
+
+/// Relative residual of P_lock below which Newton's μ̄ is taken (the reference set ends near
+/// 1e-7, f32's resolution of the cubic's terms).
+const LOCK_TOLERANCE: f32 = 1.0e-5;
+
+/// Largest μ̄ at which the dense curve may reach P_lock: the grains compressed to 11 times their
+/// density, far beyond any concrete's locking.
+pub const MAX_LOCK_MU_BAR: f64 = 10.0;
+
+/// The root of K₁μ̄ + K₂μ̄² + K₃μ̄³ = P_lock on [0, MAX_LOCK_MU_BAR] by bisection in f64 (the
+/// first crossing where the curve is monotone), or MAX_LOCK_MU_BAR when it does not get there.
+fn dense_root(h: &Hjc) -> f64 {
+    let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
+    let p = |x: f64| (k1 + (k2 + k3 * x) * x) * x;
+    let (mut lo, mut hi) = (0.0, MAX_LOCK_MU_BAR);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if p(mid) < p_lock {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// Why the fully dense curve cannot end the crushing line, or `None` when it can: it must rise
+/// (slope K₁ + 2K₂μ̄ + 3K₃μ̄² > 0) from μ̄ = 0 all the way to P_lock, and reach P_lock by
+/// μ̄ = MAX_LOCK_MU_BAR. Otherwise the lock strain does not exist (or is not unique) and the
+/// EOS's tangent, hence the sound speed, is negative or unbounded.
+pub fn dense_curve_fault(h: &Hjc) -> Option<String> {
+    let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
+    let p = |x: f64| (k1 + (k2 + k3 * x) * x) * x;
+    let slope = |x: f64| k1 + (2.0 * k2 + 3.0 * k3 * x) * x;
+    let reaches = p(MAX_LOCK_MU_BAR) >= p_lock;
+    if !reaches {
+        return Some(format!(
+            "the fully dense curve K1 μ̄ + K2 μ̄² + K3 μ̄³ does not reach p_lock = {p_lock:.4e} Pa by \
+             μ̄ = {MAX_LOCK_MU_BAR} (it gives {:.4e} Pa there)",
+            p(MAX_LOCK_MU_BAR)
+        ));
+    }
+    let root = dense_root(h);
+    // The slope is a parabola in μ̄: its least value on [0, root] is at an end or at its vertex.
+    let vertex = if k3 > 0.0 { -k2 / (3.0 * k3) } else { 0.0 };
+    let least = [0.0, root, vertex.clamp(0.0, root)]
+        .into_iter()
+        .min_by(|a, b| slope(*a).total_cmp(&slope(*b)))
+        .unwrap_or(0.0);
+    let rises = slope(least) > 0.0;
+    if !rises {
+        return Some(format!(
+            "the fully dense curve K1 μ̄ + K2 μ̄² + K3 μ̄³ does not rise all the way to p_lock: its \
+             slope K1 + 2 K2 μ̄ + 3 K3 μ̄² is {:.4e} Pa at μ̄ = {least:.4e} (p_lock is reached at \
+             μ̄ = {root:.4e})",
+            slope(least)
+        ));
+    }
+    None
 }
 
 /// The stiffest tangent [`pressure`] gives up to the start of full compaction: the elastic K_el =
@@ -281,6 +350,51 @@ mod tests {
     #[test]
     fn lock_strain_is_where_the_dense_curve_reaches_p_lock() {
         assert_rel(lock_strain(&Hjc::reference_48mpa()), MU_PLOCK, 1e-6);
+        assert_eq!(dense_curve_fault(&Hjc::reference_48mpa()), None);
+    }
+
+    /// A soft, strongly cubic dense curve (K₁ 1 GPa, K₂ 0, K₃ 1 TPa): four Newton steps from
+    /// P_lock/K₁ = 0.8 leave μ̄ at 0.163, far from the root near 0.0892 (p 5.6 times P_lock),
+    /// so the crushing line would have ended off the dense curve; the bisection finds the root.
+    #[test]
+    fn lock_strain_converges_for_a_set_far_from_the_reference() {
+        let h = Hjc {
+            k1: 1.0e9,
+            k2: 0.0,
+            k3: 1.0e12,
+            ..Hjc::reference_48mpa()
+        };
+        assert_eq!(dense_curve_fault(&h), None);
+        let mu_bar = (lock_strain(&h) - h.mu_lock) / (1.0 + h.mu_lock);
+        let p = dense_pressure(&h, mu_bar);
+        assert!(
+            ((p - h.p_lock) / h.p_lock).abs() < 1e-5,
+            "μ̄ {mu_bar}: p {p}"
+        );
+    }
+
+    /// Dense curves that dip (K₁ 0.5 Pa with the reference K₂, K₃), fall (K₂ −1e30) or never
+    /// reach P_lock (P_lock 1e30 Pa) are named, not run.
+    #[test]
+    fn a_dense_curve_that_cannot_end_the_crushing_is_refused() {
+        let reference = Hjc::reference_48mpa();
+        for h in [
+            Hjc {
+                k1: 0.5,
+                ..reference
+            },
+            Hjc {
+                k2: -1.0e30,
+                ..reference
+            },
+            Hjc {
+                p_lock: 1.0e30,
+                ..reference
+            },
+        ] {
+            let why = dense_curve_fault(&h).expect("refused");
+            assert!(why.contains("fully dense curve"), "{why}");
+        }
     }
 
     #[test]
