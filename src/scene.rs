@@ -1416,6 +1416,23 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
         ),
     )?;
     c.require(
+        length >= nose_length + element_size,
+        "projectile.length",
+        length,
+        &if nose_length > 0.0 {
+            format!(
+                "must be ≥ the nose length plus projectile.element_size = {} m (at least one \
+                 element along the shank)",
+                approx(nose_length + element_size)
+            )
+        } else {
+            format!(
+                "must be ≥ projectile.element_size = {} m (at least one element along the bar)",
+                approx(element_size)
+            )
+        },
+    )?;
+    c.require(
         p.velocity >= 0.0 && p.velocity <= 5000.0,
         "projectile.velocity",
         p.velocity,

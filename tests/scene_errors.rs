@@ -101,6 +101,24 @@ fn negative_size() {
     assert!(matches!(err, SceneError::NonPhysical { .. }));
 }
 
+/// A bar shorter than one element, or an ogive whose shank is, is refused (a 1e-5 m Taylor bar
+/// used to mesh one flat row and stop at step 0 with a node "escaped", 1e-30 m as a "folded"
+/// mesh to be cured by smaller elements).
+#[test]
+fn shorter_than_one_element() {
+    // smoke: diameter 0.02 m, crh 2 (nose 0.02646 m), element_size 0.0025 m.
+    refused(
+        &smoke_text(),
+        &["projectile.length=0.027"],
+        &["projectile.length = 0.027", "0.02896", "along the shank"],
+    );
+    refused(
+        &smoke_with("crh = 2.0", ""),
+        &["projectile.shape=\"cylinder\"", "projectile.length=1e-30"],
+        &["projectile.length = 1e-30", "0.0025 m", "along the bar"],
+    );
+}
+
 #[test]
 fn lambda_outside_unit_interval() {
     let text = format!("{}\n[contact]\nlambda = 1.5\n", smoke_text());
