@@ -157,12 +157,9 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn smoke(overrides: &[&str]) -> Scene {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/smoke.toml");
-        let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        crate::scene::load(&path, &sets).unwrap()
+        crate::scene::shipped_case("smoke.toml", overrides)
     }
 
     /// The target's step is set by the stiffest EOS tangent the concrete can reach: K₁ for the

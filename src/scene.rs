@@ -478,6 +478,16 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
     parse_str(&text, path, overrides)
 }
 
+/// A shipped case (`cases/<name>`) with `--set` overrides, for unit tests.
+#[cfg(test)]
+pub(crate) fn shipped_case(name: &str, overrides: &[&str]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(name);
+    let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    load(&path, &sets).unwrap()
+}
+
 /// [`load`] on text already read; `origin` names the file in messages and gives the default
 /// scene name (its stem).
 pub fn parse_str(text: &str, origin: &Path, overrides: &[String]) -> Result<Scene, SceneError> {

@@ -957,12 +957,9 @@ fn target_options(scene: &Scene) -> Option<TargetOptions> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn forrestal(overrides: &[&str]) -> Scene {
-        let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/forrestal1994-277.toml");
-        let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        crate::scene::load(&case, &sets).unwrap()
+        crate::scene::shipped_case("forrestal1994-277.toml", overrides)
     }
 
     #[test]
