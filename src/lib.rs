@@ -10,6 +10,7 @@ pub mod contact;
 pub mod cpu;
 pub mod estimate;
 pub mod gpu;
+pub mod interrupt;
 pub mod kernel;
 pub mod materials;
 pub mod mesh;

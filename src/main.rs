@@ -180,6 +180,7 @@ enum BackendArg {
 /// could not be written.
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    penetrate::interrupt::install();
     match cli.command {
         Command::Sweep {
             case,
@@ -310,6 +311,15 @@ fn main() -> ExitCode {
                     if let Err(e) = std::fs::write(&path, &table) {
                         return fail(3, &format!("{}: {e}", path.display()));
                     }
+                    if penetrate::interrupt::requested() {
+                        return fail(
+                            penetrate::interrupt::EXIT_CODE,
+                            &format!(
+                                "check-stability: interrupted; {} has the scenes run so far",
+                                path.display()
+                            ),
+                        );
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(e) => fail(2, &format!("check-stability: {e}")),
@@ -428,6 +438,8 @@ fn main() -> ExitCode {
                     say!("outputs in {}", out.display());
                     if outcome.ok {
                         ExitCode::SUCCESS
+                    } else if penetrate::interrupt::requested() {
+                        fail(penetrate::interrupt::EXIT_CODE, &s.status)
                     } else {
                         fail(1, &s.status)
                     }

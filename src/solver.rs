@@ -1184,6 +1184,16 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     };
     let mut progress = Progress::new(scene.run.end_time, opts.quiet);
     let (status, reason, ok) = loop {
+        if crate::interrupt::requested() {
+            break (
+                format!(
+                    "interrupted (Ctrl-C or SIGTERM) at step {}, t {:.4e} s",
+                    sim.step, sim.time
+                ),
+                String::new(),
+                false,
+            );
+        }
         if let Some(reason) = sim.stop_reason() {
             break ("completed".to_string(), reason.to_string(), true);
         }

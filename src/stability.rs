@@ -309,6 +309,9 @@ pub fn run(
             };
             progress(&row);
             rows.push(row);
+            if crate::interrupt::requested() {
+                return Ok(rows);
+            }
         }
     }
     Ok(rows)

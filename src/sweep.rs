@@ -106,13 +106,16 @@ pub enum SweepError {
     Backend(String),
     /// Output could not be written.
     Io(String),
+    /// Ctrl-C or SIGTERM stopped the sweep ([`crate::interrupt`]).
+    Interrupted(String),
 }
 
 impl SweepError {
-    /// The command line's exit code: 2 bad input, 3 output not writable.
+    /// The command line's exit code: 2 bad input, 3 output not writable, 130 interrupted.
     pub fn exit_code(&self) -> u8 {
         match self {
             SweepError::Io(_) => 3,
+            SweepError::Interrupted(_) => crate::interrupt::EXIT_CODE,
             _ => 2,
         }
     }
@@ -121,7 +124,10 @@ impl SweepError {
 impl fmt::Display for SweepError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SweepError::Spec(m) | SweepError::Backend(m) | SweepError::Io(m) => f.write_str(m),
+            SweepError::Spec(m)
+            | SweepError::Backend(m)
+            | SweepError::Io(m)
+            | SweepError::Interrupted(m) => f.write_str(m),
             SweepError::Scene(e) => write!(f, "{e}"),
         }
     }
@@ -250,6 +256,9 @@ pub fn run_set(
         };
         progress(&record);
         records.push(record);
+        if crate::interrupt::requested() {
+            break;
+        }
     }
     Ok(records)
 }
@@ -337,10 +346,19 @@ pub fn sweep(
     let planned = plan(specs)?;
     let io = |e: std::io::Error| SweepError::Io(format!("{}: {e}", out.display()));
     std::fs::create_dir_all(out).map_err(io)?;
+    let planned_runs = planned.len();
     let records = run_set(planned, settings, progress)?;
     let path = out.join("sweep.csv");
     std::fs::write(&path, sweep_csv(vary, &records))
         .map_err(|e| SweepError::Io(format!("{}: {e}", path.display())))?;
+    if crate::interrupt::requested() {
+        return Err(SweepError::Interrupted(format!(
+            "interrupted after {} of {planned_runs} runs (the last one stopped where it was); \
+             {} has their rows",
+            records.len(),
+            path.display()
+        )));
+    }
     Ok(records)
 }
 

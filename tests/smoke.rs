@@ -761,3 +761,47 @@ fn bench_refuses_what_it_cannot_time() {
     assert_eq!(row.steps, 1);
     assert!(row.ms_per_step > 0.0 && row.particles > 1000);
 }
+
+/// Ctrl-C (SIGINT) ends a run at the end of its step with what a finished run writes: the
+/// summary says `interrupted`, the history keeps its rows, and the exit code is 130.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_run_keeps_its_outputs() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("interrupted");
+    // The smoke scene for 0.2 s of simulated time: ~4·10⁶ steps, far longer than the wait below.
+    let child = Command::new(bin)
+        .args(["run", &case("smoke.toml").display().to_string()])
+        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
+        .arg(&dir)
+        .args([
+            "--set",
+            "run.end_time=0.2",
+            "--set",
+            "run.stop_at_rest=false",
+        ])
+        .args(["--set", "run.history_interval=1e-6"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for a few history rows, so the run is under way.
+    let history = dir.join("history.csv");
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(&history).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(started.elapsed().as_secs() < 120, "no history rows");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    // SAFETY: a signal to our own child process.
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    assert!(status.starts_with("interrupted"), "{status}");
+    assert!(summary["time_s"].as_f64().unwrap() < 0.2);
+    assert!(std::fs::read_to_string(&history).unwrap().lines().count() >= 3);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -138,13 +138,16 @@ pub enum ValidateError {
     Backend(String),
     /// Output could not be written.
     Io(String),
+    /// Ctrl-C or SIGTERM stopped the validation ([`crate::interrupt`]).
+    Interrupted(String),
 }
 
 impl ValidateError {
-    /// The command line's exit code: 2 bad input, 3 output not writable.
+    /// The command line's exit code: 2 bad input, 3 output not writable, 130 interrupted.
     pub fn exit_code(&self) -> u8 {
         match self {
             ValidateError::Io(_) => 3,
+            ValidateError::Interrupted(_) => crate::interrupt::EXIT_CODE,
             _ => 2,
         }
     }
@@ -153,9 +156,10 @@ impl ValidateError {
 impl fmt::Display for ValidateError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            ValidateError::Input(m) | ValidateError::Backend(m) | ValidateError::Io(m) => {
-                f.write_str(m)
-            }
+            ValidateError::Input(m)
+            | ValidateError::Backend(m)
+            | ValidateError::Io(m)
+            | ValidateError::Interrupted(m) => f.write_str(m),
         }
     }
 }
@@ -167,6 +171,7 @@ impl From<SweepError> for ValidateError {
         match e {
             SweepError::Io(m) => ValidateError::Io(m),
             SweepError::Backend(m) => ValidateError::Backend(m),
+            SweepError::Interrupted(m) => ValidateError::Interrupted(m),
             other => ValidateError::Input(other.to_string()),
         }
     }
@@ -386,6 +391,14 @@ impl Context<'_> {
                     describe(r)
                 ))
             })?;
+            if crate::interrupt::requested() {
+                return Err(ValidateError::Interrupted(format!(
+                    "interrupted in {} {label} on {} (its run stopped where it was); run the \
+                     same command with --resume to go on",
+                    section.name(),
+                    backend.name()
+                )));
+            }
             let Some(r) = new.pop() else { continue };
             if r.completed().is_none() {
                 self.failed.push(format!(
