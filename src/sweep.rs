@@ -353,7 +353,7 @@ pub fn sweep(
         .map_err(|e| SweepError::Io(format!("{}: {e}", path.display())))?;
     if crate::interrupt::requested() {
         return Err(SweepError::Interrupted(format!(
-            "interrupted after {} of {planned_runs} runs (the last one stopped where it was); \
+            "interrupted after {} of {planned_runs} runs (a run under way stopped where it was); \
              {} has their rows",
             records.len(),
             path.display()

@@ -137,8 +137,9 @@ const LOCK_TOLERANCE: f32 = 1.0e-5;
 /// density, far beyond any concrete's locking.
 pub const MAX_LOCK_MU_BAR: f64 = 10.0;
 
-/// The root of K₁μ̄ + K₂μ̄² + K₃μ̄³ = P_lock on [0, MAX_LOCK_MU_BAR] by bisection in f64 (the
-/// first crossing where the curve is monotone), or MAX_LOCK_MU_BAR when it does not get there.
+/// A root of K₁μ̄ + K₂μ̄² + K₃μ̄³ = P_lock on [0, MAX_LOCK_MU_BAR] by bisection in f64 (the only
+/// one where the curve rises monotonically, as [`dense_curve_fault`] requires), or
+/// MAX_LOCK_MU_BAR when the curve does not get there.
 fn dense_root(h: &Hjc) -> f64 {
     let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
     let p = |x: f64| (k1 + (k2 + k3 * x) * x) * x;

@@ -89,8 +89,8 @@ pub fn drilled_count(
     in_cols.saturating_mul(in_rows)
 }
 
-/// How many of 0..n lead the range holding `inside`, for a predicate that holds on a prefix
-/// (the centres grow with the index, so a hole's columns and rows are a prefix).
+/// The number of leading indices of 0..n for which `inside` holds, for a predicate true on a
+/// prefix (the centres grow with the index, so a hole's columns and rows are a prefix).
 fn leading(n: usize, inside: impl Fn(usize) -> bool) -> usize {
     let (mut lo, mut hi) = (0, n);
     while lo < hi {
