@@ -472,7 +472,7 @@ impl Simulation {
                 offer(step(i), &|| {
                     format!(
                         "particle {i} has the smallest stable step, {:e} s, at (r {:.4e}, \
-                         z {:.4e}) m: density {:.0} kg/m³, sound speed {:.0} m/s, speed {:.0} \
+                         z {:.4e}) m: density {:.4e} kg/m³, sound speed {:.0} m/s, speed {:.0} \
                          m/s",
                         step(i),
                         p.r[i],
