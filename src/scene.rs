@@ -1563,6 +1563,15 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         "must be > 0 (Pa) and within the f32 range",
     )?;
     c.non_negative(&key("eos_gamma"), k.eos_gamma, "-")?;
+    let eos = PolyEos {
+        k1: eos_k1 as f32,
+        k2: k.eos_k2 as f32,
+        k3: k.eos_k3 as f32,
+        gamma: k.eos_gamma as f32,
+    };
+    if let Some(why) = crate::materials::steel_eos::compression_fault(&eos) {
+        return Err(c.conflict(&[&key("eos_k1"), &key("eos_k2"), &key("eos_k3")], &why));
+    }
     let damage = resolve_damage(c, m, k.damage, &key)?;
     Ok(SteelMaterial {
         preset: m.preset.clone(),
@@ -1581,12 +1590,7 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
             t_room: k.t_room as f32,
             t_melt: k.t_melt as f32,
         },
-        eos: PolyEos {
-            k1: eos_k1 as f32,
-            k2: k.eos_k2 as f32,
-            k3: k.eos_k3 as f32,
-            gamma: k.eos_gamma as f32,
-        },
+        eos,
         damage,
     })
 }

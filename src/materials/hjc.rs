@@ -162,7 +162,6 @@ fn dense_root(h: &Hjc) -> f64 {
 pub fn dense_curve_fault(h: &Hjc) -> Option<String> {
     let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
     let p = |x: f64| (k1 + (k2 + k3 * x) * x) * x;
-    let slope = |x: f64| k1 + (2.0 * k2 + 3.0 * k3 * x) * x;
     let reaches = p(MAX_LOCK_MU_BAR) >= p_lock;
     if !reaches {
         return Some(format!(
@@ -172,19 +171,13 @@ pub fn dense_curve_fault(h: &Hjc) -> Option<String> {
         ));
     }
     let root = dense_root(h);
-    // The slope is a parabola in μ̄: its least value on [0, root] is at an end or at its vertex.
-    let vertex = if k3 > 0.0 { -k2 / (3.0 * k3) } else { 0.0 };
-    let least = [0.0, root, vertex.clamp(0.0, root)]
-        .into_iter()
-        .min_by(|a, b| slope(*a).total_cmp(&slope(*b)))
-        .unwrap_or(0.0);
-    let rises = slope(least) > 0.0;
+    let (slope, least) = super::least_cubic_slope(k1, k2, k3, root);
+    let rises = slope > 0.0;
     if !rises {
         return Some(format!(
             "the fully dense curve K1 μ̄ + K2 μ̄² + K3 μ̄³ does not rise all the way to p_lock: its \
-             slope K1 + 2 K2 μ̄ + 3 K3 μ̄² is {:.4e} Pa at μ̄ = {least:.4e} (p_lock is reached at \
-             μ̄ = {root:.4e})",
-            slope(least)
+             slope K1 + 2 K2 μ̄ + 3 K3 μ̄² is {slope:.4e} Pa at μ̄ = {least:.4e} (p_lock is \
+             reached at μ̄ = {root:.4e})"
         ));
     }
     None

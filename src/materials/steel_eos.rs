@@ -29,6 +29,26 @@ pub fn bulk_tangent(eos: &PolyEos, mu: f32) -> f32 {
     (eos.k1 + (2.0 * eos.k2 + 3.0 * eos.k3 * mc) * mc).max(BULK_TANGENT_FLOOR * eos.k1)
 }
 
+/// Compression up to which the cold curve must rise: the steel at twice its density, beyond any
+/// impact this code models.
+pub const MAX_CHECKED_MU: f64 = 1.0;
+
+/// Why the cold compression curve K₁μ + K₂μ² + K₃μ³ is not an equation of state, or `None`:
+/// its slope must stay positive for 0 ≤ μ ≤ [`MAX_CHECKED_MU`] (a pressure that falls as the
+/// steel is compressed has no real sound speed; [`bulk_tangent`]'s floor only keeps the step
+/// finite while the slope dips between 0 and 0.1 K₁).
+pub fn compression_fault(eos: &PolyEos) -> Option<String> {
+    let (slope, at) =
+        super::least_cubic_slope(eos.k1 as f64, eos.k2 as f64, eos.k3 as f64, MAX_CHECKED_MU);
+    let rises = slope > 0.0;
+    (!rises).then(|| {
+        format!(
+            "the cold compression curve K1 μ + K2 μ² + K3 μ³ must rise up to μ = \
+             {MAX_CHECKED_MU}: its slope K1 + 2 K2 μ + 3 K3 μ² is {slope:.4e} Pa at μ = {at:.4e}"
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -49,6 +69,26 @@ mod tests {
             err <= tol,
             "got {got}, want {want}, relative error {err:e} > {tol:e}"
         );
+    }
+
+    /// The paper's steel passes; a K₂ of −1e30 (pressure falling at once) or a K₃ of −1e12
+    /// (falling from μ ≈ 0.35) is named.
+    #[test]
+    fn a_falling_compression_curve_is_refused() {
+        assert_eq!(compression_fault(&steel()), None);
+        for eos in [
+            PolyEos {
+                k2: -1.0e30,
+                ..steel()
+            },
+            PolyEos {
+                k3: -1.0e12,
+                ..steel()
+            },
+        ] {
+            let why = compression_fault(&eos).expect("refused");
+            assert!(why.contains("cold compression curve"), "{why}");
+        }
     }
 
     #[test]
