@@ -1162,7 +1162,7 @@ struct Fastest {
 /// where in `status`, and keeps what it had written.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
-    std::fs::create_dir_all(&opts.out).map_err(io)?;
+    crate::output::create_folder(&opts.out).map_err(RunError::Io)?;
     // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
     std::fs::write(opts.out.join(SCENE_FILE), scene.resolved_table()).map_err(io)?;
     let started = Instant::now();

@@ -344,8 +344,7 @@ pub fn sweep(
         })
         .collect();
     let planned = plan(specs)?;
-    let io = |e: std::io::Error| SweepError::Io(format!("{}: {e}", out.display()));
-    std::fs::create_dir_all(out).map_err(io)?;
+    crate::output::create_folder(out).map_err(SweepError::Io)?;
     let planned_runs = planned.len();
     let records = run_set(planned, settings, progress)?;
     let path = out.join("sweep.csv");

@@ -805,3 +805,25 @@ fn an_interrupted_run_keeps_its_outputs() {
     assert!(std::fs::read_to_string(&history).unwrap().lines().count() >= 3);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An output folder that cannot be made (here a file stands in its way) is named, with exit
+/// code 3, before anything runs.
+#[test]
+fn an_output_folder_that_cannot_be_made_is_named() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let file = scratch("out-is-a-file");
+    std::fs::write(&file, "not a folder").unwrap();
+    let out = Command::new(bin)
+        .args(["run", &case("smoke.toml").display().to_string()])
+        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("cannot create the output folder") && err.contains("out-is-a-file"),
+        "{err}"
+    );
+    let _ = std::fs::remove_file(&file);
+}

@@ -555,8 +555,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
     let chosen = sections(opts);
     for s in &chosen {
         let dir = opts.out.join(s.name());
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| ValidateError::Io(format!("{}: {e}", dir.display())))?;
+        crate::output::create_folder(&dir).map_err(ValidateError::Io)?;
     }
     let estimate = estimate_runs(opts)?;
     let names: Vec<&str> = chosen.iter().map(|s| s.name()).collect();
