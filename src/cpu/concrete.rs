@@ -61,6 +61,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
         &*hoop_weight,
     );
     let floor = density_floor(c);
+    let mu_plock = hjc::lock_strain(c);
     rho.par_iter_mut()
         .zip(strain_energy.par_iter_mut())
         .zip(p.par_iter_mut())
@@ -91,7 +92,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 }
                 *rho = continuity.max(floor);
                 let mu = *rho / c.density - 1.0;
-                let eos = hjc::pressure(c, mu, *mmax, *dmg);
+                let eos = hjc::pressure(c, mu_plock, mu, *mmax, *dmg);
                 *mmax = eos.mu_max;
                 *p = eos.p;
 

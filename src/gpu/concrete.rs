@@ -178,7 +178,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     /// The same outputs from materials::hjc.
     fn law_cpu(h: &Hjc, c: &[f32; 8]) -> [f32; 8] {
         let [mu, mu_max, d, rate, p, d_eps_p, d_mu_p, tangent] = *c;
-        let eos = hjc::pressure(h, mu, mu_max, d);
+        let eos = hjc::pressure(h, hjc::lock_strain(h), mu, mu_max, d);
         [
             eos.p,
             eos.mu_max,

@@ -250,9 +250,11 @@ fn crush_envelope(h: &Hjc, m: f32, k_el: f32, mu_plock: f32) -> (f32, f32) {
 /// exactly: the crushing line ends at μ_plock where the dense curve reaches P_lock
 /// ([`lock_strain`]). We take the paper's form: continuous at the join, the dense curve as in
 /// physics.md, and μ_p at locking ≈ μ_lock as in LAW126 (0.1011 for the reference set).
-pub fn pressure(h: &Hjc, mu: f32, mu_max: f32, damage: f32) -> HjcEos {
+///
+/// `mu_plock` is [`lock_strain`]`(h)`, which depends on the constants only: the caller computes
+/// it once, not per particle and step.
+pub fn pressure(h: &Hjc, mu_plock: f32, mu: f32, mu_max: f32, damage: f32) -> HjcEos {
     let k_el = h.p_crush / h.mu_crush;
-    let mu_plock = lock_strain(h);
     let new_max = mu.max(mu_max);
 
     let (p_env, k_unload) = crush_envelope(h, new_max.min(mu_plock), k_el, mu_plock);
@@ -395,12 +397,12 @@ mod tests {
     fn eos_elastic() {
         let h = Hjc::reference_48mpa();
         // μ = 5e-4 ≤ μ_crush: p = 16e9·5e-4 = 8 MPa, no plastic volume, tangent K_el.
-        let e = pressure(&h, 5.0e-4, 0.0, 0.0);
+        let e = pressure(&h, lock_strain(&h), 5.0e-4, 0.0, 0.0);
         assert_rel(e.p, 8.0e6, 1e-5);
         assert_eq!((e.mu_max, e.d_mu_p), (5.0e-4, 0.0));
         assert_rel(e.tangent, 16.0e9, 1e-6);
         // μ = −2e-4: p = −3.2 MPa, above the −4 MPa cut-off; μ_max stays 0.
-        let e = pressure(&h, -2.0e-4, 0.0, 0.0);
+        let e = pressure(&h, lock_strain(&h), -2.0e-4, 0.0, 0.0);
         assert_rel(e.p, -3.2e6, 1e-5);
         assert_eq!(e.mu_max, 0.0);
     }
@@ -410,7 +412,7 @@ mod tests {
         let h = Hjc::reference_48mpa();
         // Loading from μ_max = 0.03 to μ = 0.05:
         // p = 16e6 + 7.1562694e9·(0.05 − 0.001) = 16e6 + 350.65720e6 = 366.65720 MPa
-        let e = pressure(&h, 0.05, 0.03, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.05, 0.03, 0.0);
         assert_rel(e.p, 366.65720e6, 1e-5);
         assert_eq!(e.mu_max, 0.05);
         // K_unload(m) = 16e9 + 69e9·(m − 0.001)/0.10955429:
@@ -431,12 +433,16 @@ mod tests {
         let h = Hjc::reference_48mpa();
         // From μ_max = 0.05 back to 0.045: p = 366.65720e6 − 46.861412e9·0.005
         //   = 366.65720e6 − 234.30706e6 = 132.35014 MPa; no new plastic volume.
-        let e = pressure(&h, 0.045, 0.05, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.045, 0.05, 0.0);
         assert_rel(e.p, 132.35014e6, 1e-5);
         assert_eq!((e.mu_max, e.d_mu_p), (0.05, 0.0));
         assert_rel(e.tangent, 46.861412e9, 1e-5);
         // Reloading to 0.049 stays on the same line: 366.65720e6 − 46.861412e9·0.001 = 319.79579 MPa
-        assert_rel(pressure(&h, 0.049, 0.05, 0.0).p, 319.79579e6, 1e-5);
+        assert_rel(
+            pressure(&h, lock_strain(&h), 0.049, 0.05, 0.0).p,
+            319.79579e6,
+            1e-5,
+        );
     }
 
     #[test]
@@ -445,7 +451,7 @@ mod tests {
         // μ = 0.12: μ̄ = 0.02/1.1 = 0.018181818
         // p = 85e9·0.018181818 − 171e9·3.3057851e-4 + 208e9·6.0105184e-6
         //   = 1545.4545e6 − 56.528926e6 + 1.2501878e6 = 1490.1758 MPa
-        let e = pressure(&h, 0.12, 0.0, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.12, 0.0, 0.0);
         assert_rel(e.p, 1490.1758e6, 1e-5);
         // Plastic volume from 0 to locking: μ_plock − P_lock/K₁ = 0.11055429 − 9.4117647e-3
         //   = 0.10114252 (≈ μ_lock, as in LAW126)
@@ -454,7 +460,7 @@ mod tests {
         //   = (85e9 − 6.2181818e9 + 0.20628099e9)/1.1 = 78.988099e9/1.1 = 71.807363 GPa
         assert_rel(e.tangent, 71.807363e9, 1e-5);
         // Once locked, unloading follows the same curve and adds no plastic volume.
-        let e = pressure(&h, 0.12, 0.2, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.12, 0.2, 0.0);
         assert_rel(e.p, 1490.1758e6, 1e-5);
         assert_eq!((e.mu_max, e.d_mu_p), (0.2, 0.0));
     }
@@ -463,8 +469,8 @@ mod tests {
     fn eos_is_continuous_at_the_lock() {
         let h = Hjc::reference_48mpa();
         let mu = lock_strain(&h);
-        let below = pressure(&h, mu * (1.0 - 1.0e-5), 0.0, 0.0).p;
-        let above = pressure(&h, mu * (1.0 + 1.0e-5), 0.0, 0.0).p;
+        let below = pressure(&h, lock_strain(&h), mu * (1.0 - 1.0e-5), 0.0, 0.0).p;
+        let above = pressure(&h, lock_strain(&h), mu * (1.0 + 1.0e-5), 0.0, 0.0).p;
         // Both within one tangent step (≤ 85 GPa·2.2e-6 ≈ 0.19 MPa) of P_lock = 800 MPa.
         assert_rel(below, 800.0e6, 5e-4);
         assert_rel(above, 800.0e6, 5e-4);
@@ -474,13 +480,29 @@ mod tests {
     fn eos_tension_cut_off() {
         let h = Hjc::reference_48mpa();
         // Elastic μ = −1e-3 would give −16 MPa; cut at −T = −4 MPa, or −T(1 − 0.5) = −2 MPa.
-        assert_rel(pressure(&h, -1.0e-3, 0.0, 0.0).p, -4.0e6, 1e-6);
-        assert_rel(pressure(&h, -1.0e-3, 0.0, 0.5).p, -2.0e6, 1e-6);
+        assert_rel(
+            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.0).p,
+            -4.0e6,
+            1e-6,
+        );
+        assert_rel(
+            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.5).p,
+            -2.0e6,
+            1e-6,
+        );
         // Unloading from a crushed state into tension: 366.66e6 − 46.86e9·0.02 < 0 → cut.
-        assert_rel(pressure(&h, 0.03, 0.05, 0.0).p, -4.0e6, 1e-6);
-        assert_rel(pressure(&h, 0.03, 0.05, 0.5).p, -2.0e6, 1e-6);
+        assert_rel(
+            pressure(&h, lock_strain(&h), 0.03, 0.05, 0.0).p,
+            -4.0e6,
+            1e-6,
+        );
+        assert_rel(
+            pressure(&h, lock_strain(&h), 0.03, 0.05, 0.5).p,
+            -2.0e6,
+            1e-6,
+        );
         // Fully damaged: no tension at all.
-        assert_eq!(pressure(&h, -1.0e-3, 0.0, 1.0).p, 0.0);
+        assert_eq!(pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 1.0).p, 0.0);
     }
 
     #[test]
@@ -557,7 +579,7 @@ mod tests {
         let h = Hjc::reference_48mpa();
         for mu in [-0.9, -1.0e-9, 0.0, 1.0e-9, 0.5, 3.0] {
             for mu_max in [0.0, 0.05, 0.2] {
-                let e = pressure(&h, mu, mu_max, 0.3);
+                let e = pressure(&h, lock_strain(&h), mu, mu_max, 0.3);
                 assert!(e.p.is_finite() && e.d_mu_p.is_finite() && e.tangent.is_finite());
                 assert!(
                     e.d_mu_p >= 0.0 && e.tangent >= 15.9999e9,
