@@ -120,6 +120,13 @@ pub struct Simulation {
 impl Simulation {
     /// Build the meshes, the state and the pass list, and evaluate the first forces and Δt.
     pub fn new(scene: &Scene) -> Result<Simulation, RunError> {
+        let mut sim = Simulation::assemble(scene)?;
+        sim.start()?;
+        Ok(sim)
+    }
+
+    /// Build the meshes, the state and the pass list, at rest before the first forces.
+    fn assemble(scene: &Scene) -> Result<Simulation, RunError> {
         crate::estimate::check_fits(scene).map_err(RunError::Setup)?;
         let spec = &scene.projectile;
         let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
@@ -201,9 +208,14 @@ impl Simulation {
         sim.account.initial_kinetic = sim.kinetic_energy();
         sim.account.initial_momentum = sim.momentum_z();
         sim.account.min_dt = f64::MAX;
-        sim.forces(0.0)?;
-        sim.dt = sim.stable_dt()?;
         Ok(sim)
+    }
+
+    /// The first forces and Δt: unstable when the scene as built cannot take a step.
+    fn start(&mut self) -> Result<(), RunError> {
+        self.forces(0.0)?;
+        self.dt = self.stable_dt()?;
+        Ok(())
     }
 
     /// Move the step onto a GPU adapter (`name`: part of its name, or the best one). The
@@ -1116,6 +1128,12 @@ pub fn build(
     adapter: Option<&str>,
 ) -> Result<Simulation, RunError> {
     let mut sim = Simulation::new(scene)?;
+    attach(&mut sim, backend, adapter)?;
+    Ok(sim)
+}
+
+/// Move a started model onto the backend asked for (see [`build`]).
+fn attach(sim: &mut Simulation, backend: Backend, adapter: Option<&str>) -> Result<(), RunError> {
     match backend {
         Backend::Cpu => {}
         Backend::Gpu => {
@@ -1131,7 +1149,7 @@ pub fn build(
             }
         }
     }
-    Ok(sim)
+    Ok(())
 }
 
 /// The resolved scene a run writes into its output folder.
@@ -1167,8 +1185,19 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     std::fs::write(opts.out.join(SCENE_FILE), scene.resolved_table()).map_err(io)?;
     let started = Instant::now();
     let backend = opts.backend.unwrap_or(scene.run.backend);
-    let mut sim = build(scene, backend, opts.adapter.as_deref())?;
+    let mut sim = Simulation::assemble(scene)?;
     let mut history = History::create(&opts.out.join("history.csv")).map_err(io)?;
+    if let Err(e) = sim.start() {
+        // The scene as built cannot take a step (its first forces or Δt, on the CPU): the
+        // state at rest and why, as any unstable run leaves them.
+        history.write(&sim.history_row()).map_err(io)?;
+        history.flush().map_err(io)?;
+        let status = format!("{e} (before the first step, evaluated on the CPU)");
+        let summary = sim.summary(&status, "", started.elapsed().as_secs_f64());
+        write_summary(&opts.out, &summary).map_err(io)?;
+        return Ok(RunOutcome { summary, ok: false });
+    }
+    attach(&mut sim, backend, opts.adapter.as_deref())?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
     if opts.vtk {
@@ -1255,9 +1284,13 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
     }
     let summary = sim.summary(&status, &reason, started.elapsed().as_secs_f64());
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| RunError::Io(e.to_string()))?;
-    std::fs::write(opts.out.join("summary.json"), json + "\n").map_err(io)?;
+    write_summary(&opts.out, &summary).map_err(io)?;
     Ok(RunOutcome { summary, ok })
+}
+
+fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {
+    let json = serde_json::to_string_pretty(summary).map_err(std::io::Error::other)?;
+    std::fs::write(out.join("summary.json"), json + "\n")
 }
 
 /// Which nodes belong to the body: the largest set, by reference volume, of elements that have

@@ -827,3 +827,36 @@ fn an_output_folder_that_cannot_be_made_is_named() {
     );
     let _ = std::fs::remove_file(&file);
 }
+
+/// A scene that cannot take its first step (a projectile of 1e-30 kg/m³: its elements' stable
+/// step is 0) stops as any unstable run does: exit code 1, and `summary.json` and the history's
+/// row at rest written beside `scene.toml`, the status naming what and where.
+#[test]
+fn a_run_that_cannot_take_its_first_step_keeps_its_outputs() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("first-step");
+    let out = Command::new(bin)
+        .args(["run", &case("smoke.toml").display().to_string()])
+        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
+        .arg(&dir)
+        .args(["--set", "projectile.material.density=1e-30"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    assert!(
+        status.contains("time step collapsed") && status.contains("before the first step"),
+        "{status}"
+    );
+    assert!(
+        status.contains("element") && status.contains("(r "),
+        "{status}"
+    );
+    assert_eq!(summary["steps"].as_u64(), Some(0));
+    let rows = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 2, "{rows}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
