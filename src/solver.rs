@@ -729,7 +729,8 @@ impl Simulation {
                 let area = 0.5 * ((rj - ri) * (zm - zi) - (rm - ri) * (zj - zi));
                 d as f64 * area.abs()
             })
-            .sum()
+            // Not `sum`, whose empty total is −0, which the history would print as "-0e0".
+            .fold(0.0, |total, a| total + a)
     }
 
     pub fn max_plastic_strain(&self) -> f64 {
