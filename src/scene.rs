@@ -1562,7 +1562,16 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         eos_k1,
         "must be > 0 (Pa) and within the f32 range",
     )?;
-    c.non_negative(&key("eos_gamma"), k.eos_gamma, "-")?;
+    c.require(
+        (0.0..=crate::materials::steel_eos::MAX_GAMMA as f64).contains(&k.eos_gamma),
+        &key("eos_gamma"),
+        k.eos_gamma,
+        &format!(
+            "must be in [0, {}]: the Grüneisen Γ of solid metals is about 1 to 3, and the \
+             stable step leaves out the energy term Γ (E/ρ₀ + p/ρ) of the sound speed",
+            crate::materials::steel_eos::MAX_GAMMA
+        ),
+    )?;
     let eos = PolyEos {
         k1: eos_k1 as f32,
         k2: k.eos_k2 as f32,

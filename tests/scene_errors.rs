@@ -462,6 +462,12 @@ fn concrete_constants_are_checked() {
         &["projectile.material.poisson_ratio=0.5"],
         &["projectile.material.poisson_ratio", "(0, 0.5)"],
     );
+    // A Grüneisen Γ far above any solid's, which the stable step is not made for.
+    refused(
+        &smoke_text(),
+        &["projectile.material.eos_gamma=100"],
+        &["projectile.material.eos_gamma", "[0, 5]"],
+    );
 }
 
 #[test]

@@ -29,6 +29,13 @@ pub fn bulk_tangent(eos: &PolyEos, mu: f32) -> f32 {
     (eos.k1 + (2.0 * eos.k2 + 3.0 * eos.k3 * mc) * mc).max(BULK_TANGENT_FLOOR * eos.k1)
 }
 
+/// Largest Grüneisen Γ a scene may set. Solid metals have Γ ≈ 1–3 (the paper's 4340: 1.16,
+/// copper: 2.0). The element's sound speed is the cold one, sqrt((dp/dμ + 4G/3)/ρ): it leaves
+/// out Γ (E/ρ₀ + p/ρ), which at Γ ≤ 5 and the pressures and heating of an impact is a few per
+/// cent of c² and within the Courant number's margin; far above it the step is too long (a
+/// 4340 Taylor bar with Γ = 100 loses its energy balance in 14 steps).
+pub const MAX_GAMMA: f32 = 5.0;
+
 /// Compression up to which the cold curve must rise: the steel at twice its density, beyond any
 /// impact this code models.
 pub const MAX_CHECKED_MU: f64 = 1.0;
