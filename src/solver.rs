@@ -105,6 +105,10 @@ pub struct Simulation {
     pub account: Account,
     pub last_hits: usize,
     wall_z: Option<f32>,
+    /// World z of the model's z = 0. A Taylor scene is built with its wall at z = 0 and
+    /// `wall.z` added back in the frames and messages it writes: f32 positions resolve a
+    /// step's motion only near the origin (a bar placed at z = 100 m would not move at all).
+    origin_z: f64,
     escape: f32,
     /// The GPU step when the run is on the GPU; the CPU state is then refreshed by `sync`.
     gpu: Option<Box<GpuStep>>,
@@ -128,7 +132,11 @@ impl Simulation {
     /// Build the meshes, the state and the pass list, at rest before the first forces.
     fn assemble(scene: &Scene) -> Result<Simulation, RunError> {
         crate::estimate::check_fits(scene).map_err(RunError::Setup)?;
-        let spec = &scene.projectile;
+        let origin_z = scene.wall.as_ref().map_or(0.0, |w| w.z);
+        let spec = &crate::scene::ProjectileSpec {
+            nose_z: scene.projectile.nose_z - origin_z,
+            ..scene.projectile.clone()
+        };
         let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
         let projectile =
             Projectile::from_mesh(&pmesh, spec.velocity as f32, spec.material.strength.t_room);
@@ -197,7 +205,8 @@ impl Simulation {
             dt: 0.0,
             account: Account::default(),
             last_hits: 0,
-            wall_z: scene.wall.as_ref().map(|w| w.z as f32),
+            wall_z: scene.wall.as_ref().map(|w| (w.z - origin_z) as f32),
+            origin_z,
             escape: (20.0 * extent) as f32,
             gpu: None,
             gpu_base: Account::default(),
@@ -295,8 +304,10 @@ impl Simulation {
         if let Some((what, index, reason)) = GpuStep::status_problem(&rb.status) {
             let (r, z) = self.locate(g, what, index as usize);
             return Err(RunError::Unstable(format!(
-                "{what} {index} {reason} at (r {r:.4e}, z {z:.4e}) m, step {}, t {:.4e} s",
-                self.step, self.time
+                "{what} {index} {reason} at (r {r:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
+                self.world_z(z),
+                self.step,
+                self.time
             )));
         }
         if self.has(Pass::ContactDetect) {
@@ -392,10 +403,15 @@ impl Simulation {
         }
         if self.has(Pass::FemStress) {
             let p = &mut self.projectile;
+            let origin = self.origin_z;
             cpu::fem_stress::run(&mut p.elements, &p.nodes, &self.fem, dt).map_err(|inv| {
                 RunError::Unstable(format!(
                     "element {} inverted at (r {:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
-                    inv.element, inv.r, inv.z, self.step, self.time
+                    inv.element,
+                    inv.r,
+                    inv.z as f64 + origin,
+                    self.step,
+                    self.time
                 ))
             })?;
             cpu::fem_forces::run(&mut p.nodes, &p.elements);
@@ -468,7 +484,7 @@ impl Simulation {
                          damage {:.2}{}",
                         e.dt[k],
                         c(&n.r),
-                        c(&n.z),
+                        self.world_z(c(&n.z)),
                         volume / e.volume0[k],
                         e.eps_p[k],
                         e.damage[k],
@@ -488,7 +504,7 @@ impl Simulation {
                          m/s",
                         step(i),
                         p.r[i],
-                        p.z[i],
+                        self.world_z(p.z[i]),
                         p.rho[i],
                         p.sound[i],
                         p.vr[i].hypot(p.vz[i])
@@ -508,10 +524,15 @@ impl Simulation {
             return result;
         }
         let dt = self.dt;
+        let origin = self.origin_z;
         let blowup = |b: cpu::integrate::Blowup, step: u64, time: f64| {
             RunError::Unstable(format!(
                 "{} {} {} at (r {:.4e}, z {:.4e}) m, step {step}, t {time:.4e} s",
-                b.what, b.index, b.reason, b.r, b.z
+                b.what,
+                b.index,
+                b.reason,
+                b.r,
+                b.z as f64 + origin
             ))
         };
         if let Some(sph) = &self.sph {
@@ -876,7 +897,13 @@ impl Simulation {
         let f = self.fastest();
         Err(RunError::Unstable(format!(
             "{what} at step {}, t {:.4e} s; fastest: {} {} at (r {:.4e}, z {:.4e}) m, {:.3e} m/s",
-            self.step, self.time, f.what, f.index, f.r, f.z, f.speed
+            self.step,
+            self.time,
+            f.what,
+            f.index,
+            f.r,
+            self.world_z(f.z),
+            f.speed
         )))
     }
 
@@ -927,13 +954,14 @@ impl Simulation {
         pvd: &mut vtk::Collection,
     ) -> std::io::Result<()> {
         let p = &self.particles;
+        let world = |z: &[f32]| -> Vec<f32> { z.iter().map(|&z| self.world_z(z) as f32).collect() };
         if !p.is_empty() {
             let name = format!("target_{frame:05}.vtu");
             let speed: Vec<f32> = (0..p.len()).map(|i| p.vr[i].hypot(p.vz[i])).collect();
             vtk::write_vtu(
                 &dir.join(&name),
                 &p.r,
-                &p.z,
+                &world(&p.z),
                 None,
                 &[
                     ("pressure", &p.p),
@@ -960,7 +988,7 @@ impl Simulation {
         vtk::write_vtu(
             &dir.join(&name),
             &n.r,
-            &n.z,
+            &world(&n.z),
             Some(&e.nodes),
             &[("v_r", &n.vr), ("v_z", &n.vz)],
             &[
@@ -973,6 +1001,11 @@ impl Simulation {
             ],
         )?;
         pvd.add(self.time, 1, &name)
+    }
+
+    /// World z of a model position (see `origin_z`).
+    fn world_z(&self, z: f32) -> f64 {
+        z as f64 + self.origin_z
     }
 
     /// Passes that ran, with the side they ran on.
