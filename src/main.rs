@@ -498,7 +498,7 @@ fn fail(code: u8, msg: &str) -> ExitCode {
 fn check_report(s: &Scene) -> Result<String, String> {
     let mut out = s.resolved_table();
     estimate::check_fits(s)?;
-    match mesh::projectile::build(&s.projectile) {
+    match mesh::projectile::build(&s.model_projectile()) {
         Ok(m) => {
             let e = estimate::estimate(s, &m);
             out += &format!(
@@ -508,10 +508,13 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 m.total_mass,
                 m.filler_mass
             );
-            out += &format!(
-                "# target: {} particles, {} slaves (approx.)\n",
-                e.particles, e.slaves
-            );
+            out += &match &s.wall {
+                Some(w) => format!("# target: none, a rigid wall at z = {} m\n", w.z),
+                None => format!(
+                    "# target: {} particles, {} slaves (approx.)\n",
+                    e.particles, e.slaves
+                ),
+            };
             let cap = if e.steps > s.run.max_steps {
                 format!(
                     "; more than run.max_steps = {}, where the run will stop",
@@ -520,9 +523,17 @@ fn check_report(s: &Scene) -> Result<String, String> {
             } else {
                 String::new()
             };
+            let sph = if s.target.is_some() {
+                format!(
+                    ", SPH {:.3e} at the stiffest EOS tangent up to locking",
+                    e.dt_sph
+                )
+            } else {
+                String::new()
+            };
             out += &format!(
-                "# stable step ≈ {:.3e} s (FEM {:.3e}, SPH {:.3e} at the stiffest EOS tangent up to locking) → ≈ {} steps to end_time{cap}\n",
-                e.dt, e.dt_fem, e.dt_sph, e.steps
+                "# stable step ≈ {:.3e} s (FEM {:.3e}{sph}) → ≈ {} steps to end_time{cap}\n",
+                e.dt, e.dt_fem, e.steps
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));
         }

@@ -1887,6 +1887,21 @@ impl Lines {
 }
 
 impl Scene {
+    /// World z of the model's z = 0: a Taylor scene's wall, else the target's face (0). The
+    /// solver builds the scene with that at z = 0, where f32 positions resolve a step's
+    /// motion, and adds it back in what it writes.
+    pub fn origin_z(&self) -> f64 {
+        self.wall.as_ref().map_or(0.0, |w| w.z)
+    }
+
+    /// The projectile placed in the model's coordinates (see [`Scene::origin_z`]).
+    pub fn model_projectile(&self) -> ProjectileSpec {
+        ProjectileSpec {
+            nose_z: self.projectile.nose_z - self.origin_z(),
+            ..self.projectile.clone()
+        }
+    }
+
     /// Every resolved value, one `dotted.key = value  # unit` line each, under the same dotted
     /// names `--set` takes; passing the lines back as overrides reproduces the scene.
     pub fn resolved_table(&self) -> String {

@@ -105,9 +105,9 @@ pub struct Simulation {
     pub account: Account,
     pub last_hits: usize,
     wall_z: Option<f32>,
-    /// World z of the model's z = 0. A Taylor scene is built with its wall at z = 0 and
-    /// `wall.z` added back in the frames and messages it writes: f32 positions resolve a
-    /// step's motion only near the origin (a bar placed at z = 100 m would not move at all).
+    /// World z of the model's z = 0 ([`Scene::origin_z`]), added back in the frames and
+    /// messages: f32 positions resolve a step's motion only near the origin (a Taylor bar placed
+    /// at z = 100 m would not move at all).
     origin_z: f64,
     escape: f32,
     /// The GPU step when the run is on the GPU; the CPU state is then refreshed by `sync`.
@@ -132,11 +132,8 @@ impl Simulation {
     /// Build the meshes, the state and the pass list, at rest before the first forces.
     fn assemble(scene: &Scene) -> Result<Simulation, RunError> {
         crate::estimate::check_fits(scene).map_err(RunError::Setup)?;
-        let origin_z = scene.wall.as_ref().map_or(0.0, |w| w.z);
-        let spec = &crate::scene::ProjectileSpec {
-            nose_z: scene.projectile.nose_z - origin_z,
-            ..scene.projectile.clone()
-        };
+        let origin_z = scene.origin_z();
+        let spec = &scene.model_projectile();
         let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
         let projectile =
             Projectile::from_mesh(&pmesh, spec.velocity as f32, spec.material.strength.t_room);

@@ -540,6 +540,25 @@ fn cli_rejects_bad_input_without_panicking() {
         text.contains("more than run.max_steps = 100000, where the run will stop"),
         "{text}"
     );
+    // A Taylor bar has no target and so no SPH step; its step does not depend on where its
+    // wall is (the mesh is built at the model's origin, as the run builds it).
+    let step_line = |wall_z: &str| {
+        let out = Command::new(bin)
+            .args(["check", &case("taylor-4340-208.toml").display().to_string()])
+            .args(["--set", &format!("wall.z={wall_z}")])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(
+            text.contains(&format!("# target: none, a rigid wall at z = {wall_z} m")),
+            "{text}"
+        );
+        let line = text.lines().find(|l| l.contains("stable step")).unwrap();
+        assert!(!line.contains("SPH"), "{line}");
+        line.to_string()
+    };
+    assert_eq!(step_line("0"), step_line("100"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
