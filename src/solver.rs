@@ -1212,6 +1212,7 @@ struct Fastest {
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
     crate::output::create_folder(&opts.out).map_err(RunError::Io)?;
+    crate::output::clear_previous_run(&opts.out).map_err(io)?;
     // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
     std::fs::write(opts.out.join(SCENE_FILE), scene.resolved_table()).map_err(io)?;
     let started = Instant::now();

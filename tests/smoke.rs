@@ -922,3 +922,46 @@ fn a_taylor_run_does_not_depend_on_where_the_wall_is() {
     // The frames are written where the scene put the bar (f32 at 100 m: 7.6e-6 m apart).
     assert!((z100 - 100.0 - z0).abs() < 1e-5, "{z0} {z100}");
 }
+
+/// A run into a folder an earlier run wrote clears that run's summary and frames first, so
+/// that a shorter run, or one without frames, is not read together with the last one's;
+/// other files are left alone.
+#[test]
+fn a_run_clears_the_frames_an_earlier_run_left() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("rerun");
+    let run = |extra: &[&str]| {
+        let out = Command::new(bin)
+            .args(["run", &case("smoke.toml").display().to_string()])
+            .args(["--backend", "cpu", "--quiet", "--out"])
+            .arg(&dir)
+            .args(["--set", "run.end_time=4e-6"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    let frames = || {
+        std::fs::read_dir(&dir)
+            .unwrap()
+            .filter(|e| {
+                let name = e.as_ref().unwrap().file_name();
+                let name = name.to_str().unwrap();
+                name.ends_with(".vtu") || name.ends_with(".pvd")
+            })
+            .count()
+    };
+    run(&["--set", "run.output_interval=1e-6"]);
+    // At t = 0, every µs and at the end, of the target and of the projectile, and the
+    // collection.
+    assert!(frames() >= 11, "{}", frames());
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    run(&["--no-vtk"]);
+    assert_eq!(frames(), 0);
+    assert!(dir.join("summary.json").is_file() && dir.join("notes.txt").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
