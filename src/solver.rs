@@ -1217,11 +1217,12 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     std::fs::write(opts.out.join(SCENE_FILE), scene.resolved_table()).map_err(io)?;
     let started = Instant::now();
     let backend = opts.backend.unwrap_or(scene.run.backend);
+    let history_file = opts.out.join("history.csv");
     let mut sim = Simulation::assemble(scene)?;
-    let mut history = History::create(&opts.out.join("history.csv")).map_err(io)?;
     if let Err(e) = sim.start() {
         // The scene as built cannot take a step (its first forces or Δt, on the CPU): the
         // state at rest and why, as any unstable run leaves them.
+        let mut history = History::create(&history_file).map_err(io)?;
         history.write(&sim.history_row()).map_err(io)?;
         history.flush().map_err(io)?;
         let status = format!("{e} (before the first step, evaluated on the CPU)");
@@ -1230,6 +1231,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         return Ok(RunOutcome { summary, ok: false });
     }
     attach(&mut sim, backend, opts.adapter.as_deref())?;
+    let mut history = History::create(&history_file).map_err(io)?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
     if opts.vtk {
