@@ -963,5 +963,15 @@ fn a_run_clears_the_frames_an_earlier_run_left() {
     run(&["--no-vtk"]);
     assert_eq!(frames(), 0);
     assert!(dir.join("summary.json").is_file() && dir.join("notes.txt").is_file());
+    // A run refused before its first step leaves no history or summary of the last one.
+    let out = Command::new(bin)
+        .args(["run", &case("smoke.toml").display().to_string()])
+        .args(["--backend", "gpu", "--adapter", "no-such-adapter", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!dir.join("summary.json").exists() && !dir.join("history.csv").exists());
+    assert!(dir.join("scene.toml").is_file() && dir.join("notes.txt").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }

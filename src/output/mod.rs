@@ -13,9 +13,10 @@ pub fn create_folder(dir: &std::path::Path) -> Result<(), String> {
 }
 
 /// Removes what an earlier run left in `dir` that this one may not overwrite: its
-/// `summary.json` (a run killed before writing its own must not show the last one's) and its
-/// frames (`frames.pvd`, `target_NNNNN.vtu`, `projectile_NNNNN.vtu`: a shorter run, or one
-/// without frames, would otherwise sit beside the last one's). Nothing else is touched.
+/// `summary.json` and `history.csv` (a run refused or killed before writing its own must not
+/// show the last one's) and its frames (`frames.pvd`, `target_NNNNN.vtu`,
+/// `projectile_NNNNN.vtu`: a shorter run, or one without frames, would otherwise sit beside the
+/// last one's). Nothing else is touched.
 pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
     let frame = |name: &str| {
         ["target_", "projectile_"].iter().any(|prefix| {
@@ -28,9 +29,8 @@ pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
         let entry = entry?;
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        if (name == "summary.json" || name == "frames.pvd" || frame(name))
-            && entry.file_type()?.is_file()
-        {
+        let ours = ["summary.json", "history.csv", "frames.pvd"].contains(&name);
+        if (ours || frame(name)) && entry.file_type()?.is_file() {
             std::fs::remove_file(entry.path())?;
         }
     }
