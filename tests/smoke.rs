@@ -14,6 +14,16 @@ fn case(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// `penetrate run CASE --backend cpu --quiet --out DIR`, for the caller to add to.
+fn cpu_run(case_name: &str, dir: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_penetrate"));
+    command
+        .args(["run", &case(case_name).display().to_string()])
+        .args(["--backend", "cpu", "--quiet", "--out"])
+        .arg(dir);
+    command
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("penetrate-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -566,12 +576,9 @@ fn cli_rejects_bad_input_without_panicking() {
 /// stdout closed before it prints, the run still completes, exits 0 and writes its summary.
 #[test]
 fn run_survives_a_closed_stdout() {
-    let bin = env!("CARGO_BIN_EXE_penetrate");
     let dir = scratch("closed-stdout");
-    let mut child = Command::new(bin)
-        .args(["run", &case("smoke.toml").display().to_string()])
-        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
-        .arg(&dir)
+    let mut child = cpu_run("smoke.toml", &dir)
+        .arg("--no-vtk")
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -786,13 +793,10 @@ fn bench_refuses_what_it_cannot_time() {
 #[cfg(unix)]
 #[test]
 fn an_interrupted_run_keeps_its_outputs() {
-    let bin = env!("CARGO_BIN_EXE_penetrate");
     let dir = scratch("interrupted");
     // The smoke scene for 0.2 s of simulated time: ~4·10⁶ steps, far longer than the wait below.
-    let child = Command::new(bin)
-        .args(["run", &case("smoke.toml").display().to_string()])
-        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
-        .arg(&dir)
+    let child = cpu_run("smoke.toml", &dir)
+        .arg("--no-vtk")
         .args([
             "--set",
             "run.end_time=0.2",
@@ -829,13 +833,10 @@ fn an_interrupted_run_keeps_its_outputs() {
 /// code 3, before anything runs.
 #[test]
 fn an_output_folder_that_cannot_be_made_is_named() {
-    let bin = env!("CARGO_BIN_EXE_penetrate");
     let file = scratch("out-is-a-file");
     std::fs::write(&file, "not a folder").unwrap();
-    let out = Command::new(bin)
-        .args(["run", &case("smoke.toml").display().to_string()])
-        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
-        .arg(&file)
+    let out = cpu_run("smoke.toml", &file)
+        .arg("--no-vtk")
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
@@ -852,12 +853,9 @@ fn an_output_folder_that_cannot_be_made_is_named() {
 /// row at rest written beside `scene.toml`, the status naming what and where.
 #[test]
 fn a_run_that_cannot_take_its_first_step_keeps_its_outputs() {
-    let bin = env!("CARGO_BIN_EXE_penetrate");
     let dir = scratch("first-step");
-    let out = Command::new(bin)
-        .args(["run", &case("smoke.toml").display().to_string()])
-        .args(["--backend", "cpu", "--quiet", "--no-vtk", "--out"])
-        .arg(&dir)
+    let out = cpu_run("smoke.toml", &dir)
+        .arg("--no-vtk")
         .args(["--set", "projectile.material.density=1e-30"])
         .output()
         .unwrap();
@@ -885,13 +883,9 @@ fn a_run_that_cannot_take_its_first_step_keeps_its_outputs() {
 /// apart, more than the bar's motion in a step, and the bar used not to move at all.
 #[test]
 fn a_taylor_run_does_not_depend_on_where_the_wall_is() {
-    let bin = env!("CARGO_BIN_EXE_penetrate");
     let run = |wall_z: &str| {
         let dir = scratch(&format!("wall-{wall_z}"));
-        let out = Command::new(bin)
-            .args(["run", &case("taylor-4340-208.toml").display().to_string()])
-            .args(["--backend", "cpu", "--quiet", "--out"])
-            .arg(&dir)
+        let out = cpu_run("taylor-4340-208.toml", &dir)
             .args(["--set", &format!("wall.z={wall_z}")])
             .args([
                 "--set",
@@ -931,10 +925,7 @@ fn a_run_clears_the_frames_an_earlier_run_left() {
     let bin = env!("CARGO_BIN_EXE_penetrate");
     let dir = scratch("rerun");
     let run = |extra: &[&str]| {
-        let out = Command::new(bin)
-            .args(["run", &case("smoke.toml").display().to_string()])
-            .args(["--backend", "cpu", "--quiet", "--out"])
-            .arg(&dir)
+        let out = cpu_run("smoke.toml", &dir)
             .args(["--set", "run.end_time=4e-6"])
             .args(extra)
             .output()
