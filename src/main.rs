@@ -536,6 +536,11 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 e.dt, e.dt_fem, e.steps
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));
+            out += &format!(
+                "# frames: {} to end_time (none with --no-vtk), ≈ {:.1} MiB of ASCII VTU\n",
+                e.frames,
+                e.frames as f64 * e.frame_bytes as f64 / (1024.0 * 1024.0)
+            );
         }
         Err(e) => return Err(format!("projectile mesh: {e}")),
     }
