@@ -202,15 +202,9 @@ mod tests {
         let (mut written, mut bytes) = (0, 0);
         for entry in std::fs::read_dir(&dir).unwrap() {
             let entry = entry.unwrap();
-            if entry
-                .file_name()
-                .to_str()
-                .unwrap()
-                .starts_with("projectile_")
-            {
-                written += 1;
-            }
-            if entry.file_name().to_str().unwrap().ends_with(".vtu") {
+            let name = entry.file_name().into_string().unwrap();
+            written += u64::from(name.starts_with("projectile_"));
+            if name.ends_with(".vtu") {
                 bytes += entry.metadata().unwrap().len() as usize;
             }
         }

@@ -104,11 +104,8 @@ pub struct Simulation {
     pub dt: f32,
     pub account: Account,
     pub last_hits: usize,
+    /// The wall, a Taylor scene's: the model's z = 0 ([`Scene::origin_z`]).
     wall_z: Option<f32>,
-    /// World z of the model's z = 0 ([`Scene::origin_z`]), added back in the frames and
-    /// messages: f32 positions resolve a step's motion only near the origin (a Taylor bar placed
-    /// at z = 100 m would not move at all).
-    origin_z: f64,
     escape: f32,
     /// The GPU step when the run is on the GPU; the CPU state is then refreshed by `sync`.
     gpu: Option<Box<GpuStep>>,
@@ -132,7 +129,9 @@ impl Simulation {
     /// Build the meshes, the state and the pass list, at rest before the first forces.
     fn assemble(scene: &Scene) -> Result<Simulation, RunError> {
         crate::estimate::check_fits(scene).map_err(RunError::Setup)?;
-        let origin_z = scene.origin_z();
+        // Built with the world's `origin_z` at z = 0, added back in frames and messages
+        // (`world_z`): f32 positions resolve a step's motion only near the origin (a Taylor bar
+        // placed at z = 100 m would not move at all).
         let spec = &scene.model_projectile();
         let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
         let projectile =
@@ -202,8 +201,7 @@ impl Simulation {
             dt: 0.0,
             account: Account::default(),
             last_hits: 0,
-            wall_z: scene.wall.as_ref().map(|w| (w.z - origin_z) as f32),
-            origin_z,
+            wall_z: scene.wall.as_ref().map(|_| 0.0),
             escape: (20.0 * extent) as f32,
             gpu: None,
             gpu_base: Account::default(),
@@ -400,7 +398,7 @@ impl Simulation {
         }
         if self.has(Pass::FemStress) {
             let p = &mut self.projectile;
-            let origin = self.origin_z;
+            let origin = self.scene.origin_z();
             cpu::fem_stress::run(&mut p.elements, &p.nodes, &self.fem, dt).map_err(|inv| {
                 RunError::Unstable(format!(
                     "element {} inverted at (r {:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
@@ -521,7 +519,7 @@ impl Simulation {
             return result;
         }
         let dt = self.dt;
-        let origin = self.origin_z;
+        let origin = self.scene.origin_z();
         let blowup = |b: cpu::integrate::Blowup, step: u64, time: f64| {
             RunError::Unstable(format!(
                 "{} {} {} at (r {:.4e}, z {:.4e}) m, step {step}, t {time:.4e} s",
@@ -1000,9 +998,9 @@ impl Simulation {
         pvd.add(self.time, 1, &name)
     }
 
-    /// World z of a model position (see `origin_z`).
+    /// World z of a model position ([`Scene::origin_z`]).
     fn world_z(&self, z: f32) -> f64 {
-        z as f64 + self.origin_z
+        z as f64 + self.scene.origin_z()
     }
 
     /// Passes that ran, with the side they ran on.

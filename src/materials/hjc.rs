@@ -141,12 +141,10 @@ pub const MAX_LOCK_MU_BAR: f64 = 10.0;
 /// one where the curve rises monotonically, as [`dense_curve_fault`] requires), or
 /// MAX_LOCK_MU_BAR when the curve does not get there.
 fn dense_root(h: &Hjc) -> f64 {
-    let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
-    let p = |x: f64| (k1 + (k2 + k3 * x) * x) * x;
     let (mut lo, mut hi) = (0.0, MAX_LOCK_MU_BAR);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if p(mid) < p_lock {
+        if dense_pressure_f64(h, mid) < h.p_lock as f64 {
             lo = mid;
         } else {
             hi = mid;
@@ -155,13 +153,19 @@ fn dense_root(h: &Hjc) -> f64 {
     hi
 }
 
+/// The fully dense curve K₁μ̄ + K₂μ̄² + K₃μ̄³ in f64, for the checks and the bisection.
+fn dense_pressure_f64(h: &Hjc, mu_bar: f64) -> f64 {
+    let (k1, k2, k3) = (h.k1 as f64, h.k2 as f64, h.k3 as f64);
+    (k1 + (k2 + k3 * mu_bar) * mu_bar) * mu_bar
+}
+
 /// Why the fully dense curve cannot end the crushing line, or `None` when it can: it must rise
 /// (slope K₁ + 2K₂μ̄ + 3K₃μ̄² > 0) from μ̄ = 0 all the way to P_lock, and reach P_lock by
 /// μ̄ = MAX_LOCK_MU_BAR. Otherwise the lock strain does not exist (or is not unique) and the
 /// EOS's tangent, hence the sound speed, is negative or unbounded.
 pub fn dense_curve_fault(h: &Hjc) -> Option<String> {
     let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
-    let p = |x: f64| (k1 + (k2 + k3 * x) * x) * x;
+    let p = |x: f64| dense_pressure_f64(h, x);
     let reaches = p(MAX_LOCK_MU_BAR) >= p_lock;
     if !reaches {
         return Some(format!(
