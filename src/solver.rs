@@ -8,6 +8,7 @@ use crate::contact::{self, ContactBodies, Hit};
 use crate::cpu::{self, neighbours::CellGrid};
 use crate::gpu::step::{GpuStep, StepSetup, Sync};
 use crate::mesh;
+use crate::output;
 use crate::output::history::{History, Row};
 use crate::output::progress::Progress;
 use crate::output::summary::{EnergySummary, Summary};
@@ -1206,13 +1207,16 @@ struct Fastest {
 }
 
 /// Run a scene to its end, writing the outputs as it goes. An unstable run stops, says what and
-/// where in `status`, and keeps what it had written.
+/// where in `status`, and keeps what it had written. So does a run whose outputs the disk stops
+/// taking, as far as the disk lets it: its files end whole, `summary.json` is written where it
+/// fits, and it returns [`RunError::Io`] saying where, when and what was kept.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
-    let io = |e: std::io::Error| RunError::Io(format!("{}: {e}", opts.out.display()));
-    crate::output::create_folder(&opts.out).map_err(RunError::Io)?;
-    crate::output::clear_previous_run(&opts.out).map_err(io)?;
+    let io = |e: std::io::Error| RunError::Io(e.to_string());
+    output::create_folder(&opts.out).map_err(RunError::Io)?;
+    output::clear_previous_run(&opts.out).map_err(|e| io(output::named(&opts.out, e)))?;
     // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
-    std::fs::write(opts.out.join(SCENE_FILE), scene.resolved_table()).map_err(io)?;
+    let resolved = scene.resolved_table();
+    output::write_whole(&opts.out.join(SCENE_FILE), resolved.as_bytes()).map_err(io)?;
     let started = Instant::now();
     let backend = opts.backend.unwrap_or(scene.run.backend);
     let history_file = opts.out.join("history.csv");
@@ -1229,6 +1233,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         return Ok(RunOutcome { summary, ok: false });
     }
     attach(&mut sim, backend, opts.adapter.as_deref())?;
+    if opts.vtk {
+        warn_if_frames_overfill(scene, &opts.out);
+    }
     let mut history = History::create(&history_file).map_err(io)?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
@@ -1237,6 +1244,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         frame += 1;
     }
     history.write(&sim.history_row()).map_err(io)?;
+    // Set once the disk refused an output: the run stops there.
+    let mut write_failed = false;
     let mut next_history = scene.run.history_interval;
     let mut next_frame = if scene.run.output_interval > 0.0 {
         scene.run.output_interval
@@ -1285,7 +1294,10 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         if sim.time >= next_history {
             sim.check_slaves_inside();
             let row = sim.history_row();
-            history.write(&row).map_err(io)?;
+            if let Err(e) = history.write(&row) {
+                write_failed = true;
+                break (output_failed(&sim, &e), String::new(), false);
+            }
             next_history += scene.run.history_interval;
             progress.update(sim.time, sim.step, row.depth, row.velocity);
             if let Err(e) = sim.energy_guard(row.energy_error) {
@@ -1293,7 +1305,10 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             }
         }
         if frame_due {
-            sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+            if let Err(e) = sim.write_frame(&opts.out, frame, &mut pvd) {
+                write_failed = true;
+                break (output_failed(&sim, &e), String::new(), false);
+            }
             frame += 1;
             next_frame += scene.run.output_interval;
         }
@@ -1310,19 +1325,73 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         Err(e) => (format!("{status}; then {e}"), reason, false),
     };
     sim.check_slaves_inside();
-    history.write(&sim.history_row()).map_err(io)?;
-    history.flush().map_err(io)?;
-    if opts.vtk {
-        sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+    let mut status = status;
+    if !write_failed {
+        // The last row and frame; after a refused write the disk has had its say.
+        let last = history
+            .write(&sim.history_row())
+            .and_then(|()| history.flush())
+            .and_then(|()| match opts.vtk {
+                true => sim.write_frame(&opts.out, frame, &mut pvd),
+                false => Ok(()),
+            });
+        if let Err(e) = last {
+            write_failed = true;
+            status = format!("{status}; then {}", output_failed(&sim, &e));
+        }
     }
     let summary = sim.summary(&status, &reason, started.elapsed().as_secs_f64());
-    write_summary(&opts.out, &summary).map_err(io)?;
+    let saved = write_summary(&opts.out, &summary);
+    if write_failed {
+        let kept = match saved {
+            Ok(()) => ", with summary.json".to_string(),
+            Err(e) => format!("; summary.json could not be written: {e}"),
+        };
+        return Err(RunError::Io(format!(
+            "{status}; what was written is kept in {}{kept}",
+            opts.out.display()
+        )));
+    }
+    saved.map_err(io)?;
     Ok(RunOutcome { summary, ok })
+}
+
+/// The status of a run the disk stopped: when, and the write refused.
+fn output_failed(sim: &Simulation, e: &std::io::Error) -> String {
+    format!(
+        "output failed at step {}, t {:.4e} s: {e}",
+        sim.step, sim.time
+    )
 }
 
 fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {
     let json = serde_json::to_string_pretty(summary).map_err(std::io::Error::other)?;
-    std::fs::write(out.join("summary.json"), json + "\n")
+    output::write_whole(&out.join("summary.json"), (json + "\n").as_bytes())
+}
+
+/// Says on stderr when the frames a run to `end_time` (or `max_steps`) writes, by `check`'s
+/// estimate, need more than the space free where they go: such a run stops when the disk is
+/// full (exit code 3).
+fn warn_if_frames_overfill(scene: &Scene, out: &Path) {
+    let (Ok(mesh), Some(free)) = (
+        mesh::projectile::build(&scene.model_projectile()),
+        output::free_bytes(out),
+    ) else {
+        return;
+    };
+    let e = crate::estimate::estimate(scene, &mesh);
+    // No more than one a step, the first and the last.
+    let frames = e.frames.min(scene.run.max_steps.saturating_add(2));
+    let need = frames as f64 * e.frame_bytes as f64;
+    if need > free as f64 {
+        const MIB: f64 = 1024.0 * 1024.0;
+        eprintln!(
+            "penetrate: warning: this run may write {frames} frames, ≈ {:.1} MiB of ASCII VTU, and {} has {:.1} MiB free: the run stops (exit code 3) when the disk is full; raise run.output_interval or pass --no-vtk",
+            need / MIB,
+            out.display(),
+            free as f64 / MIB
+        );
+    }
 }
 
 /// Which nodes belong to the body: the largest set, by reference volume, of elements that have

@@ -966,3 +966,110 @@ fn a_run_clears_the_frames_an_earlier_run_left() {
     assert!(dir.join("scene.toml").is_file() && dir.join("notes.txt").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A run whose disk stops taking its outputs (here the file a frame is first written to is
+/// /dev/full, which takes nothing: "No space left on device") stops there with exit code 3,
+/// naming the file, the step and the time, and leaves whole files: the frames before it, a
+/// collection naming only frames that exist, the history's rows, and `summary.json` with the
+/// status.
+#[test]
+fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
+    assert!(
+        Path::new("/dev/full").exists(),
+        "this test needs /dev/full, a device that is always full"
+    );
+    let dir = scratch("disk-full");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::os::unix::fs::symlink("/dev/full", dir.join("projectile_00002.vtu.partial")).unwrap();
+    let out = cpu_run("smoke.toml", &dir)
+        .args(["--set", "run.end_time=4e-6"])
+        .args(["--set", "run.output_interval=1e-6"])
+        .args(["--set", "run.history_interval=2e-7"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("output failed at step")
+            && err.contains("projectile_00002.vtu: No space left on device")
+            && err.contains("with summary.json"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let status = summary["status"].as_str().unwrap();
+    assert!(status.starts_with("output failed at step"), "{status}");
+    let t = summary["time_s"].as_f64().unwrap();
+    assert!((2e-6..3e-6).contains(&t), "stopped at t = {t}");
+    let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    assert!(
+        history.ends_with('\n') && history.lines().count() > 5,
+        "{history}"
+    );
+    for row in history.lines().skip(1) {
+        assert_eq!(row.split(',').count(), 15, "{row}");
+        row.split(',')
+            .for_each(|v| assert!(v.parse::<f64>().is_ok(), "{row}"));
+    }
+    let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+    let listed: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    assert!(listed.contains(&"projectile_00001.vtu"), "{pvd}");
+    assert!(!listed.contains(&"projectile_00002.vtu"), "{pvd}");
+    for file in listed {
+        let frame = std::fs::read_to_string(dir.join(file)).unwrap();
+        assert!(frame.ends_with("</VTKFile>\n"), "{file} is not whole");
+    }
+    let partial = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .ends_with(".partial")
+        })
+        .count();
+    assert_eq!(partial, 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run whose frames, by `check`'s estimate, need more than the disk has free says so on
+/// stderr before it writes them (here a frame every step for 1000 s: petabytes).
+#[test]
+fn a_run_whose_frames_cannot_fit_is_warned_about() {
+    use std::io::BufRead as _;
+    let dir = scratch("overfill");
+    let mut child = cpu_run("smoke.toml", &dir)
+        .args([
+            "--set",
+            "run.end_time=1000",
+            "--set",
+            "run.stop_at_rest=false",
+        ])
+        .args(["--set", "run.output_interval=1e-12"])
+        .args(["--set", "run.max_steps=1000000000000"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let first = std::io::BufReader::new(stderr).lines().next();
+        let _ = tx.send(first.and_then(|l| l.ok()).unwrap_or_default());
+    });
+    // Without the warning the run writes frames and says nothing: don't wait for ever.
+    let first = rx
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .unwrap_or_default();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        first.starts_with("penetrate: warning: this run may write") && first.contains("MiB free"),
+        "{first}"
+    );
+}

@@ -1,8 +1,9 @@
 //! `history.csv`: one row per history interval.
 
+use std::fmt::Write as _;
 use std::fs::File;
-use std::io::{self, BufWriter, Write};
-use std::path::Path;
+use std::io::{self, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
 
 /// One row of the time series.
 #[derive(Clone, Copy, Debug, Default)]
@@ -29,20 +30,36 @@ pub struct Row {
 
 pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa";
 
+/// Rows gathered before they go to the file together.
+const CHUNK: usize = 8192;
+
+/// The file of the time series. It ends on a whole row whatever happens: rows go out in whole
+/// chunks, and a chunk the disk could not take is cut off again (`set_len`), so a run stopped
+/// by a full disk leaves every row it wrote readable.
 pub struct History {
-    out: BufWriter<File>,
+    file: File,
+    path: PathBuf,
+    pending: String,
+    /// Bytes of whole rows in the file.
+    written: u64,
 }
 
 impl History {
     pub fn create(path: &Path) -> io::Result<History> {
-        let mut out = BufWriter::new(File::create(path)?);
-        writeln!(out, "{HEADER}")?;
-        Ok(History { out })
+        let file = File::create(path).map_err(|e| super::named(path, e))?;
+        let mut history = History {
+            file,
+            path: path.to_path_buf(),
+            pending: format!("{HEADER}\n"),
+            written: 0,
+        };
+        history.flush()?;
+        Ok(history)
     }
 
     pub fn write(&mut self, r: &Row) -> io::Result<()> {
-        writeln!(
-            self.out,
+        let _ = writeln!(
+            self.pending,
             "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e}",
             r.time,
             r.step,
@@ -59,10 +76,39 @@ impl History {
             r.damage_area,
             r.plastic_work,
             r.checkerboard
-        )
+        );
+        if self.pending.len() >= CHUNK {
+            self.flush()?;
+        }
+        Ok(())
     }
 
+    /// Sends the rows gathered so far to the file; on failure they are dropped and the file
+    /// cut back to the rows it held whole.
     pub fn flush(&mut self) -> io::Result<()> {
-        self.out.flush()
+        if self.pending.is_empty() {
+            return Ok(());
+        }
+        let sent = self.file.write_all(self.pending.as_bytes());
+        let len = self.pending.len() as u64;
+        self.pending.clear();
+        match sent {
+            Ok(()) => {
+                self.written += len;
+                Ok(())
+            }
+            Err(e) => {
+                let _ = self.file.set_len(self.written);
+                let _ = self.file.seek(SeekFrom::Start(self.written));
+                Err(super::named(&self.path, e))
+            }
+        }
+    }
+}
+
+impl Drop for History {
+    /// Rows still gathered when a run ends by an error go out too, as far as the disk takes them.
+    fn drop(&mut self) {
+        let _ = self.flush();
     }
 }

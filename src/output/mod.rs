@@ -16,7 +16,8 @@ pub fn create_folder(dir: &std::path::Path) -> Result<(), String> {
 /// `summary.json` and `history.csv` (a run refused or killed before writing its own must not
 /// show the last one's) and its frames (`frames.pvd`, `target_NNNNN.vtu`,
 /// `projectile_NNNNN.vtu`: a shorter run, or one without frames, would otherwise sit beside the
-/// last one's). Nothing else is touched.
+/// last one's), and any of these a killed run left half-written (`<name>.partial`,
+/// [`write_whole`]). Nothing else is touched.
 pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
     let frame = |name: &str| {
         ["target_", "projectile_"].iter().any(|prefix| {
@@ -29,10 +30,53 @@ pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
         let entry = entry?;
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
+        let name = name.strip_suffix(".partial").unwrap_or(name);
         let ours = ["summary.json", "history.csv", "frames.pvd"].contains(&name);
         if (ours || frame(name)) && entry.file_type()?.is_file() {
             std::fs::remove_file(entry.path())?;
         }
     }
     Ok(())
+}
+
+/// Writes `bytes` to `path` whole or not at all: into `<path>.partial` first, renamed over
+/// `path` once complete. On failure (a full disk) the partial file is removed, so the folder
+/// keeps what it had and the bytes are free again for `summary.json`, and the error names the
+/// file.
+pub fn write_whole(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut partial = path.as_os_str().to_owned();
+    partial.push(".partial");
+    let partial = std::path::PathBuf::from(partial);
+    let written = std::fs::write(&partial, bytes).and_then(|()| std::fs::rename(&partial, path));
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(&partial);
+        named(path, e)
+    })
+}
+
+/// The error `e` met on `path`, naming it.
+pub fn named(path: &std::path::Path, e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
+/// Bytes free to an unprivileged writer on the file system holding `dir`, where it can be read.
+#[cfg(unix)]
+pub fn free_bytes(dir: &std::path::Path) -> Option<u64> {
+    use std::os::unix::ffi::OsStrExt as _;
+    let path = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
+    let mut stat = std::mem::MaybeUninit::<libc::statvfs>::uninit();
+    // SAFETY: `path` is a NUL-terminated string and `stat` is written by the call before it
+    // is read, which happens only when the call succeeded.
+    let stat = unsafe {
+        if libc::statvfs(path.as_ptr(), stat.as_mut_ptr()) != 0 {
+            return None;
+        }
+        stat.assume_init()
+    };
+    Some((stat.f_bavail as u64).saturating_mul(stat.f_frsize as u64))
+}
+
+#[cfg(not(unix))]
+pub fn free_bytes(_dir: &std::path::Path) -> Option<u64> {
+    None
 }

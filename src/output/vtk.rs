@@ -57,7 +57,7 @@ pub fn write_vtu(
     write_fields(&mut s, "PointData", point_fields);
     write_fields(&mut s, "CellData", cell_fields);
     s.push_str("</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    std::fs::write(path, s)
+    super::write_whole(path, s.as_bytes())
 }
 
 fn write_fields(s: &mut String, tag: &str, fields: &[Field]) {
@@ -75,8 +75,8 @@ fn write_fields(s: &mut String, tag: &str, fields: &[Field]) {
     let _ = writeln!(s, "</{tag}>");
 }
 
-/// A `.pvd` collection: one entry per frame and part, rewritten after every frame so that a run
-/// that stops early still leaves a readable collection.
+/// A `.pvd` collection: one entry per frame and part, rewritten whole after every frame so that
+/// a run that stops early, or cannot write, still leaves a readable collection.
 #[derive(Debug, Default)]
 pub struct Collection {
     path: PathBuf,
@@ -98,6 +98,6 @@ impl Collection {
             let _ = writeln!(s, "<DataSet timestep=\"{t:e}\" part=\"{p}\" file=\"{f}\"/>");
         }
         s.push_str("</Collection>\n</VTKFile>\n");
-        std::fs::write(&self.path, s)
+        super::write_whole(&self.path, s.as_bytes())
     }
 }
