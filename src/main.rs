@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use penetrate::output::fixed;
 use penetrate::scene::{self, Backend, Scene};
 use penetrate::solver::{self, RunOptions};
 use penetrate::{estimate, mesh, sweep, validate};
@@ -420,9 +421,9 @@ fn main() -> ExitCode {
                     );
                     if scene.target.is_some() {
                         say!(
-                            "depth {:.4} m, projectile velocity {:.1} m/s",
-                            s.depth_m,
-                            s.projectile_velocity_m_s
+                            "depth {} m, projectile velocity {} m/s",
+                            fixed(s.depth_m, 4),
+                            fixed(s.projectile_velocity_m_s, 1)
                         );
                     } else {
                         say!(

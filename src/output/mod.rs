@@ -80,3 +80,25 @@ pub fn free_bytes(dir: &std::path::Path) -> Option<u64> {
 pub fn free_bytes(_dir: &std::path::Path) -> Option<u64> {
     None
 }
+
+/// `v` to `decimals` places for people to read: a value that rounds to zero is "0", not "-0"
+/// (a projectile at rest moves back by µm/s).
+pub fn fixed(v: f64, decimals: usize) -> String {
+    let text = format!("{v:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_string(),
+        _ => text,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn fixed_drops_the_sign_of_a_rounded_zero() {
+        assert_eq!(super::fixed(-0.004, 1), "0.0");
+        assert_eq!(super::fixed(-0.0, 2), "0.00");
+        assert_eq!(super::fixed(-0.06, 1), "-0.1");
+        assert_eq!(super::fixed(-10.0, 0), "-10");
+        assert_eq!(super::fixed(203.996, 2), "204.00");
+    }
+}

@@ -36,10 +36,10 @@ impl Progress {
 
     pub fn update(&mut self, time: f64, step: u64, depth: f64, velocity: f64) {
         let msg = format!(
-            "t {:.1} µs  step {step}  depth {:.1} mm  v {:.1} m/s",
+            "t {:.1} µs  step {step}  depth {} mm  v {} m/s",
             time * 1e6,
-            depth * 1e3,
-            velocity
+            super::fixed(depth * 1e3, 1),
+            super::fixed(velocity, 1)
         );
         if let Some(bar) = &self.bar {
             bar.set_position(((time / self.end_time) * 1000.0).clamp(0.0, 1000.0) as u64);
