@@ -511,7 +511,7 @@ pub fn parse_str(text: &str, origin: &Path, overrides: &[String]) -> Result<Scen
     .and_then(|raw| resolve(raw, origin));
     // An error about a key an override set is the override's fault: say so.
     scene.map_err(|err| {
-        let blamed = set_keys.iter().find(|(key, _)| {
+        let blamed = set_keys.iter().rev().find(|(key, _)| {
             err.keys().iter().any(|k| {
                 k == key
                     || (matches!(err, SceneError::UnknownKey { .. })

@@ -228,6 +228,13 @@ fn bad_override_value() {
         &["contact.lambda="],
         &["contact.lambda", "no value"],
     );
+    // A key set twice takes the last value, and the message names that `--set`, not the first.
+    let err = refused(
+        &smoke_text(),
+        &["run.end_time=3e-6", "run.end_time=0"],
+        &["--set run.end_time=0:", "run.end_time = 0"],
+    );
+    assert!(!err.to_string().contains("3e-6"), "{err}");
 }
 
 #[test]
