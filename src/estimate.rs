@@ -109,7 +109,7 @@ pub struct Estimate {
     pub steps: u64,
     pub bytes: usize,
     /// VTK frames a run writes unless `--no-vtk`: the first, one per `run.output_interval`
-    /// (at most one a step) and the last.
+    /// (at most one a step) and the last (unless one of those fell on the last step).
     pub frames: u64,
     /// The ASCII VTU bytes of one frame, target and projectile.
     pub frame_bytes: usize,
@@ -156,12 +156,15 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     let bytes = particles * BYTES_PER_PARTICLE
         + m.elements.len() * BYTES_PER_ELEMENT
         + m.node_r.len() * BYTES_PER_NODE;
-    let every = if s.run.output_interval > 0.0 {
-        (s.run.end_time / s.run.output_interval)
-            .floor()
-            .min(u64::MAX as f64) as u64
+    // After the first, one at each output_interval reached (at most one a step), the last at
+    // the end unless one of those fell on the last step.
+    let frames = if s.run.output_interval > 0.0 {
+        let due = (s.run.end_time / s.run.output_interval)
+            .ceil()
+            .min(u64::MAX as f64) as u64;
+        due.min(steps).saturating_add(1)
     } else {
-        0
+        2
     };
     Estimate {
         particles,
@@ -171,7 +174,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
         dt,
         steps,
         bytes,
-        frames: every.min(steps).saturating_add(2),
+        frames,
         frame_bytes: particles * FRAME_BYTES_PER_PARTICLE
             + m.node_r.len() * FRAME_BYTES_PER_NODE
             + m.elements.len() * FRAME_BYTES_PER_ELEMENT,
@@ -187,38 +190,55 @@ mod tests {
     }
 
     /// `check`'s frame count is what a run to `end_time` writes, and its size a little above
-    /// the frames' (ASCII: the values' lengths vary); one frame a step at most.
+    /// the frames' (ASCII: the values' lengths vary); one frame a step at most, and the last
+    /// not written twice when an output interval ends on the last step (20 µs at 5 µs: 0, 5,
+    /// 10, 15, 20; at 3 µs: 0, 3, …, 18 and 20).
     #[test]
     fn frames_are_counted_and_sized() {
-        let scene = smoke(&["run.output_interval=5e-6"]);
-        let m = mesh::projectile::build(&scene.model_projectile()).unwrap();
-        let e = estimate(&scene, &m);
-        assert_eq!(e.frames, 6);
-        let dir = std::env::temp_dir().join(format!("penetrate-frames-{}", std::process::id()));
-        let mut opts = crate::solver::RunOptions::new(dir.clone());
-        opts.quiet = true;
-        opts.backend = Some(crate::scene::Backend::Cpu);
-        crate::solver::run(&scene, &opts).unwrap();
-        let (mut written, mut bytes) = (0, 0);
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let entry = entry.unwrap();
-            let name = entry.file_name().into_string().unwrap();
-            written += u64::from(name.starts_with("projectile_"));
-            if name.ends_with(".vtu") {
-                bytes += entry.metadata().unwrap().len() as usize;
+        for (interval, frames) in [("5e-6", 5), ("3e-6", 8)] {
+            let scene = smoke(&[&format!("run.output_interval={interval}")]);
+            let m = mesh::projectile::build(&scene.model_projectile()).unwrap();
+            let e = estimate(&scene, &m);
+            assert_eq!(e.frames, frames);
+            let dir = std::env::temp_dir().join(format!(
+                "penetrate-frames-{}-{interval}",
+                std::process::id()
+            ));
+            let mut opts = crate::solver::RunOptions::new(dir.clone());
+            opts.quiet = true;
+            opts.backend = Some(crate::scene::Backend::Cpu);
+            crate::solver::run(&scene, &opts).unwrap();
+            let (mut written, mut bytes) = (0, 0);
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let entry = entry.unwrap();
+                let name = entry.file_name().into_string().unwrap();
+                written += u64::from(name.starts_with("projectile_"));
+                if name.ends_with(".vtu") {
+                    bytes += entry.metadata().unwrap().len() as usize;
+                }
             }
+            let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+            let _ = std::fs::remove_dir_all(&dir);
+            assert_eq!(written, e.frames);
+            let times: Vec<&str> = pvd
+                .lines()
+                .filter(|l| l.contains("part=\"1\""))
+                .map(|l| l.split('"').nth(1).unwrap())
+                .collect();
+            let mut distinct = times.clone();
+            distinct.dedup();
+            assert_eq!(distinct, times, "a frame written twice: {pvd}");
+            let estimated = e.frames as usize * e.frame_bytes;
+            assert!(
+                estimated >= bytes && estimated < 2 * bytes,
+                "{estimated} against {bytes}"
+            );
         }
-        let _ = std::fs::remove_dir_all(&dir);
-        assert_eq!(written, e.frames);
-        let estimated = e.frames as usize * e.frame_bytes;
-        assert!(
-            estimated >= bytes && estimated < 2 * bytes,
-            "{estimated} against {bytes}"
-        );
         let every_step = smoke(&["run.output_interval=1e-12"]);
+        let m = mesh::projectile::build(&every_step.model_projectile()).unwrap();
         assert_eq!(
             estimate(&every_step, &m).frames,
-            estimate(&every_step, &m).steps + 2
+            estimate(&every_step, &m).steps + 1
         );
         assert_eq!(estimate(&smoke(&["run.output_interval=0"]), &m).frames, 2);
     }

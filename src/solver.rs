@@ -1239,9 +1239,12 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut history = History::create(&history_file).map_err(io)?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
+    // The step of the last frame written: the last frame is not written twice.
+    let mut frame_step = None;
     if opts.vtk {
         sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
         frame += 1;
+        frame_step = Some(sim.step);
     }
     history.write(&sim.history_row()).map_err(io)?;
     // Set once the disk refused an output: the run stops there.
@@ -1310,6 +1313,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 break (output_failed(&sim, &e), String::new(), false);
             }
             frame += 1;
+            frame_step = Some(sim.step);
             next_frame += scene.run.output_interval;
         }
     };
@@ -1331,7 +1335,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         let last = history
             .write(&sim.history_row())
             .and_then(|()| history.flush())
-            .and_then(|()| match opts.vtk {
+            .and_then(|()| match opts.vtk && frame_step != Some(sim.step) {
                 true => sim.write_frame(&opts.out, frame, &mut pvd),
                 false => Ok(()),
             });
