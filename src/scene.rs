@@ -743,7 +743,7 @@ fn render(value: &Value) -> String {
 fn describe_expected(serde_expected: &str) -> String {
     match serde_expected {
         "f64" => "a number".into(),
-        "u64" => "a whole number ≥ 0".into(),
+        "u64" => "a whole number ≥ 0 (written as a float, at most 2⁵³)".into(),
         "a boolean" => "true or false".into(),
         "a string" => "a \"string\" in quotes".into(),
         s if s.starts_with("struct ") => "a table".into(),
@@ -831,8 +831,19 @@ impl<'de> de::Deserializer<'de> for ValueDe<'_> {
         visitor.visit_some(self)
     }
 
+    /// A count may be written as a float when it is a whole number (`max_steps = 5e6`), up to
+    /// 2⁵³, where every whole number is still a float.
+    fn deserialize_u64<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, DeError> {
+        match self.value {
+            Value::Float(x) if *x >= 0.0 && x.fract() == 0.0 && *x <= 2f64.powi(53) => visitor
+                .visit_u64(*x as u64)
+                .map_err(|e: DeError| e.at(&self.path, Some(self.value))),
+            _ => self.deserialize_any(visitor),
+        }
+    }
+
     serde::forward_to_deserialize_any! {
-        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes byte_buf unit
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u128 f32 f64 char str string bytes byte_buf unit
         unit_struct newtype_struct seq tuple tuple_struct map struct enum identifier ignored_any
     }
 }

@@ -228,6 +228,17 @@ fn bad_override_value() {
         &["contact.lambda="],
         &["contact.lambda", "no value"],
     );
+    // A count may be written as a float when it is a whole number.
+    let sets = ["run.max_steps=5e6".to_string()];
+    let scene = parse_str(&smoke_text(), Path::new(ORIGIN), &sets).unwrap();
+    assert_eq!(scene.run.max_steps, 5_000_000);
+    for bad in [
+        "run.max_steps=2.5",
+        "run.max_steps=-1e3",
+        "run.max_steps=1e20",
+    ] {
+        refused(&smoke_text(), &[bad], &[bad, "whole number"]);
+    }
     // A key set twice takes the last value, and the message names that `--set`, not the first.
     let err = refused(
         &smoke_text(),
