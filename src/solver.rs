@@ -1384,8 +1384,8 @@ fn warn_if_frames_overfill(scene: &Scene, out: &Path) {
         return;
     };
     let e = crate::estimate::estimate(scene, &mesh);
-    // No more than one a step, the first and the last.
-    let frames = e.frames.min(scene.run.max_steps.saturating_add(2));
+    // No more than the first and one a step (the last is not written twice).
+    let frames = e.frames.min(scene.run.max_steps.saturating_add(1));
     let need = frames as f64 * e.frame_bytes as f64;
     if need > free as f64 {
         const MIB: f64 = 1024.0 * 1024.0;
