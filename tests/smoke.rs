@@ -164,8 +164,8 @@ fn lambda_zero_projectile_is_rigid() {
 /// contact carried its velocity change into the node positions, CFL 0.5 and 0.25 gave 33.7 J
 /// and 13.5 J. With the conjugate gradient (the default) CFL 0.5, 0.25 and 0.125 give 0.214,
 /// 0.267 and 0.283 J: the work converges as the step shrinks, the shipped CFL 0.5 still 20 %
-/// low in this barely yielding nose, so the pair compared is the finer one (README, "Known
-/// shortcomings").
+/// low in this barely yielding nose, so the pair compared is the finer one (docs/validation.md,
+/// "Known shortcomings").
 #[test]
 fn projectile_plastic_work_does_not_depend_on_the_step() {
     let plastic_work = |cfl: &str| {
