@@ -113,7 +113,15 @@ pub struct Estimate {
     pub frames: u64,
     /// The ASCII VTU bytes of one frame, target and projectile.
     pub frame_bytes: usize,
+    /// Rows a run to `end_time` writes to `history.csv`: the first, one per
+    /// `run.history_interval` reached (at most one a step) and the last (unless one of those
+    /// fell on the last step).
+    pub history_rows: u64,
 }
+
+/// Bytes of one `history.csv` row, a little above what a shot's rows take (the 277 m/s shot
+/// at ×2 and the shell at 112.5 m/s: 265 and 266 on average).
+pub const HISTORY_BYTES_PER_ROW: usize = 300;
 
 /// ASCII VTU bytes a frame takes for each particle, node and element, a little above what the
 /// frames of a shot take once every value is in play (the 277 m/s shot at ×2 after 0.3 ms:
@@ -122,6 +130,20 @@ pub struct Estimate {
 const FRAME_BYTES_PER_PARTICLE: usize = 130;
 const FRAME_BYTES_PER_NODE: usize = 45;
 const FRAME_BYTES_PER_ELEMENT: usize = 60;
+
+/// The intervals of length `interval` that reach `end` (the last may end past it): `end /
+/// interval` rounded up, but a quotient within round-off of a whole number (2e-5 / 2e-6 =
+/// 10.000000000000002) is that number, as a run's accumulated due times find it.
+fn intervals(end: f64, interval: f64) -> u64 {
+    let q = end / interval;
+    let whole = q.round();
+    let n = if (q - whole).abs() <= 1e-9 * whole {
+        whole
+    } else {
+        q.ceil()
+    };
+    n.min(u64::MAX as f64) as u64
+}
 
 pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     let fem = FemParams::new(&s.projectile.material);
@@ -159,13 +181,13 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     // After the first, one at each output_interval reached (at most one a step), the last at
     // the end unless one of those fell on the last step.
     let frames = if s.run.output_interval > 0.0 {
-        let due = (s.run.end_time / s.run.output_interval)
-            .ceil()
-            .min(u64::MAX as f64) as u64;
-        due.min(steps).saturating_add(1)
+        intervals(s.run.end_time, s.run.output_interval)
+            .min(steps)
+            .saturating_add(1)
     } else {
         2
     };
+    let history_rows = intervals(s.run.end_time, s.run.history_interval);
     Estimate {
         particles,
         slaves,
@@ -178,6 +200,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
         frame_bytes: particles * FRAME_BYTES_PER_PARTICLE
             + m.node_r.len() * FRAME_BYTES_PER_NODE
             + m.elements.len() * FRAME_BYTES_PER_ELEMENT,
+        history_rows: history_rows.min(steps).saturating_add(1),
     }
 }
 
@@ -241,6 +264,46 @@ mod tests {
             estimate(&every_step, &m).steps + 1
         );
         assert_eq!(estimate(&smoke(&["run.output_interval=0"]), &m).frames, 2);
+    }
+
+    /// `check`'s history row count is what a run to `end_time` writes, and its size a little
+    /// above the file's; one row a step at most, and the last not written twice when a
+    /// history interval ends on the last step (20 µs at 2 µs: 0, 2, …, 20; at 3 µs: 0, 3, …,
+    /// 18 and 20).
+    #[test]
+    fn history_rows_are_counted_and_sized() {
+        for (interval, rows) in [("2e-6", 11), ("3e-6", 8)] {
+            let scene = smoke(&[&format!("run.history_interval={interval}")]);
+            let m = mesh::projectile::build(&scene.model_projectile()).unwrap();
+            let e = estimate(&scene, &m);
+            assert_eq!(e.history_rows, rows);
+            let dir = std::env::temp_dir().join(format!(
+                "penetrate-history-{}-{interval}",
+                std::process::id()
+            ));
+            let mut opts = crate::solver::RunOptions::new(dir.clone());
+            opts.quiet = true;
+            opts.vtk = false;
+            opts.backend = Some(crate::scene::Backend::Cpu);
+            crate::solver::run(&scene, &opts).unwrap();
+            let csv = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+            let _ = std::fs::remove_dir_all(&dir);
+            let steps: Vec<&str> = csv
+                .lines()
+                .skip(1)
+                .map(|l| l.split(',').nth(1).unwrap())
+                .collect();
+            assert_eq!(steps.len() as u64, e.history_rows, "{csv}");
+            let mut distinct = steps.clone();
+            distinct.dedup();
+            assert_eq!(distinct, steps, "a row written twice: {csv}");
+            let estimated = e.history_rows as usize * HISTORY_BYTES_PER_ROW;
+            assert!(
+                estimated >= csv.len() && estimated < 2 * csv.len(),
+                "{estimated} against {}",
+                csv.len()
+            );
+        }
     }
 
     /// The target's step is set by the stiffest EOS tangent the concrete can reach: K₁ for the

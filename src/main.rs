@@ -542,6 +542,11 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 e.frames,
                 e.frames as f64 * e.frame_bytes as f64 / (1024.0 * 1024.0)
             );
+            out += &format!(
+                "# history: {} rows to end_time, ≈ {:.1} MiB\n",
+                e.history_rows,
+                e.history_rows as f64 * estimate::HISTORY_BYTES_PER_ROW as f64 / (1024.0 * 1024.0)
+            );
         }
         Err(e) => return Err(format!("projectile mesh: {e}")),
     }

@@ -1233,9 +1233,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         return Ok(RunOutcome { summary, ok: false });
     }
     attach(&mut sim, backend, opts.adapter.as_deref())?;
-    if opts.vtk {
-        warn_if_frames_overfill(scene, &opts.out);
-    }
+    warn_if_outputs_overfill(scene, &opts.out, opts.vtk);
     let mut history = History::create(&history_file).map_err(io)?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
@@ -1247,6 +1245,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         frame_step = Some(sim.step);
     }
     history.write(&sim.history_row()).map_err(io)?;
+    // The step of the last row written: the last row is not written twice.
+    let mut history_step = sim.step;
     // Set once the disk refused an output: the run stops there.
     let mut write_failed = false;
     let mut next_history = scene.run.history_interval;
@@ -1301,6 +1301,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 write_failed = true;
                 break (output_failed(&sim, &e), String::new(), false);
             }
+            history_step = sim.step;
             next_history += scene.run.history_interval;
             progress.update(sim.time, sim.step, row.depth, row.velocity);
             if let Err(e) = sim.energy_guard(row.energy_error) {
@@ -1332,13 +1333,15 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let mut status = status;
     if !write_failed {
         // The last row and frame; after a refused write the disk has had its say.
-        let last = history
-            .write(&sim.history_row())
-            .and_then(|()| history.flush())
-            .and_then(|()| match opts.vtk && frame_step != Some(sim.step) {
-                true => sim.write_frame(&opts.out, frame, &mut pvd),
-                false => Ok(()),
-            });
+        let last = match history_step != sim.step {
+            true => history.write(&sim.history_row()),
+            false => Ok(()),
+        }
+        .and_then(|()| history.flush())
+        .and_then(|()| match opts.vtk && frame_step != Some(sim.step) {
+            true => sim.write_frame(&opts.out, frame, &mut pvd),
+            false => Ok(()),
+        });
         if let Err(e) = last {
             write_failed = true;
             status = format!("{status}; then {}", output_failed(&sim, &e));
@@ -1373,10 +1376,10 @@ fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {
     output::write_whole(&out.join("summary.json"), (json + "\n").as_bytes())
 }
 
-/// Says on stderr when the frames a run to `end_time` (or `max_steps`) writes, by `check`'s
-/// estimate, need more than the space free where they go: such a run stops when the disk is
-/// full (exit code 3).
-fn warn_if_frames_overfill(scene: &Scene, out: &Path) {
+/// Says on stderr when the frames (unless `--no-vtk`) and the history rows a run to
+/// `end_time` (or `max_steps`) writes, by `check`'s estimate, need more than the space free
+/// where they go: such a run stops when the disk is full (exit code 3).
+fn warn_if_outputs_overfill(scene: &Scene, out: &Path, vtk: bool) {
     let (Ok(mesh), Some(free)) = (
         mesh::projectile::build(&scene.model_projectile()),
         output::free_bytes(out),
@@ -1385,13 +1388,32 @@ fn warn_if_frames_overfill(scene: &Scene, out: &Path) {
     };
     let e = crate::estimate::estimate(scene, &mesh);
     // No more than the first and one a step (the last is not written twice).
-    let frames = e.frames.min(scene.run.max_steps.saturating_add(1));
-    let need = frames as f64 * e.frame_bytes as f64;
-    if need > free as f64 {
+    let frames = if vtk {
+        e.frames.min(scene.run.max_steps.saturating_add(1))
+    } else {
+        0
+    };
+    let rows = e.history_rows.min(scene.run.max_steps.saturating_add(1));
+    let frame_bytes = frames as f64 * e.frame_bytes as f64;
+    let row_bytes = rows as f64 * crate::estimate::HISTORY_BYTES_PER_ROW as f64;
+    if frame_bytes + row_bytes > free as f64 {
         const MIB: f64 = 1024.0 * 1024.0;
+        let what = if vtk {
+            format!(
+                "{frames} frames, ≈ {:.1} MiB of ASCII VTU, and {rows} history rows, ≈ {:.1} MiB,",
+                frame_bytes / MIB,
+                row_bytes / MIB
+            )
+        } else {
+            format!("{rows} history rows, ≈ {:.1} MiB,", row_bytes / MIB)
+        };
+        let remedy = if vtk {
+            "raise run.output_interval or run.history_interval, or pass --no-vtk"
+        } else {
+            "raise run.history_interval"
+        };
         eprintln!(
-            "penetrate: warning: this run may write {frames} frames, ≈ {:.1} MiB of ASCII VTU, and {} has {:.1} MiB free: the run stops (exit code 3) when the disk is full; raise run.output_interval or pass --no-vtk",
-            need / MIB,
+            "penetrate: warning: this run may write {what} and {} has {:.1} MiB free: the run stops (exit code 3) when the disk is full; {remedy}",
             out.display(),
             free as f64 / MIB
         );

@@ -1037,12 +1037,11 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A run whose frames, by `check`'s estimate, need more than the disk has free says so on
-/// stderr before it writes them (here a frame every step for 1000 s: petabytes).
-#[test]
-fn a_run_whose_frames_cannot_fit_is_warned_about() {
+/// The first line a run of the smoke scene for 1000 s with `args` says on stderr, or "" when
+/// it says nothing within 60 s (a run that cannot fit writes for ever: don't wait for it).
+fn first_warning_of_a_long_run(name: &str, args: &[&str]) -> String {
     use std::io::BufRead as _;
-    let dir = scratch("overfill");
+    let dir = scratch(name);
     let mut child = cpu_run("smoke.toml", &dir)
         .args([
             "--set",
@@ -1050,8 +1049,8 @@ fn a_run_whose_frames_cannot_fit_is_warned_about() {
             "--set",
             "run.stop_at_rest=false",
         ])
-        .args(["--set", "run.output_interval=1e-12"])
         .args(["--set", "run.max_steps=1000000000000"])
+        .args(args)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
@@ -1061,15 +1060,38 @@ fn a_run_whose_frames_cannot_fit_is_warned_about() {
         let first = std::io::BufReader::new(stderr).lines().next();
         let _ = tx.send(first.and_then(|l| l.ok()).unwrap_or_default());
     });
-    // Without the warning the run writes frames and says nothing: don't wait for ever.
     let first = rx
         .recv_timeout(std::time::Duration::from_secs(60))
         .unwrap_or_default();
     child.kill().unwrap();
     child.wait().unwrap();
     let _ = std::fs::remove_dir_all(&dir);
+    first
+}
+
+/// A run whose frames, by `check`'s estimate, need more than the disk has free says so on
+/// stderr before it writes them (here a frame every step for 1000 s: petabytes).
+#[test]
+fn a_run_whose_frames_cannot_fit_is_warned_about() {
+    let first = first_warning_of_a_long_run("overfill", &["--set", "run.output_interval=1e-12"]);
     assert!(
         first.starts_with("penetrate: warning: this run may write") && first.contains("MiB free"),
+        "{first}"
+    );
+}
+
+/// So does a run without frames whose history rows cannot fit (a row every step for 1000 s).
+#[test]
+fn a_run_whose_history_cannot_fit_is_warned_about() {
+    let first = first_warning_of_a_long_run(
+        "overfill-history",
+        &["--no-vtk", "--set", "run.history_interval=1e-12"],
+    );
+    assert!(
+        first.starts_with("penetrate: warning: this run may write")
+            && first.contains("history rows")
+            && first.contains("MiB free")
+            && first.ends_with("raise run.history_interval"),
         "{first}"
     );
 }
