@@ -212,6 +212,21 @@ mod tests {
         crate::scene::shipped_case("smoke.toml", overrides)
     }
 
+    /// The smoke scene with `key = interval`: its estimate, and the folder a CPU run of it
+    /// wrote (frames with `vtk`), for the caller to read and remove.
+    fn estimate_and_run(key: &str, interval: &str, vtk: bool) -> (Estimate, std::path::PathBuf) {
+        let scene = smoke(&[&format!("{key}={interval}")]);
+        let m = mesh::projectile::build(&scene.model_projectile()).unwrap();
+        let dir =
+            std::env::temp_dir().join(format!("penetrate-{key}-{}-{interval}", std::process::id()));
+        let mut opts = crate::solver::RunOptions::new(dir.clone());
+        opts.quiet = true;
+        opts.vtk = vtk;
+        opts.backend = Some(crate::scene::Backend::Cpu);
+        crate::solver::run(&scene, &opts).unwrap();
+        (estimate(&scene, &m), dir)
+    }
+
     /// `check`'s frame count is what a run to `end_time` writes, and its size a little above
     /// the frames' (ASCII: the values' lengths vary); one frame a step at most, and the last
     /// not written twice when an output interval ends on the last step (20 µs at 5 µs: 0, 5,
@@ -219,18 +234,8 @@ mod tests {
     #[test]
     fn frames_are_counted_and_sized() {
         for (interval, frames) in [("5e-6", 5), ("3e-6", 8)] {
-            let scene = smoke(&[&format!("run.output_interval={interval}")]);
-            let m = mesh::projectile::build(&scene.model_projectile()).unwrap();
-            let e = estimate(&scene, &m);
+            let (e, dir) = estimate_and_run("run.output_interval", interval, true);
             assert_eq!(e.frames, frames);
-            let dir = std::env::temp_dir().join(format!(
-                "penetrate-frames-{}-{interval}",
-                std::process::id()
-            ));
-            let mut opts = crate::solver::RunOptions::new(dir.clone());
-            opts.quiet = true;
-            opts.backend = Some(crate::scene::Backend::Cpu);
-            crate::solver::run(&scene, &opts).unwrap();
             let (mut written, mut bytes) = (0, 0);
             for entry in std::fs::read_dir(&dir).unwrap() {
                 let entry = entry.unwrap();
@@ -273,19 +278,8 @@ mod tests {
     #[test]
     fn history_rows_are_counted_and_sized() {
         for (interval, rows) in [("2e-6", 11), ("3e-6", 8)] {
-            let scene = smoke(&[&format!("run.history_interval={interval}")]);
-            let m = mesh::projectile::build(&scene.model_projectile()).unwrap();
-            let e = estimate(&scene, &m);
+            let (e, dir) = estimate_and_run("run.history_interval", interval, false);
             assert_eq!(e.history_rows, rows);
-            let dir = std::env::temp_dir().join(format!(
-                "penetrate-history-{}-{interval}",
-                std::process::id()
-            ));
-            let mut opts = crate::solver::RunOptions::new(dir.clone());
-            opts.quiet = true;
-            opts.vtk = false;
-            opts.backend = Some(crate::scene::Backend::Cpu);
-            crate::solver::run(&scene, &opts).unwrap();
             let csv = std::fs::read_to_string(dir.join("history.csv")).unwrap();
             let _ = std::fs::remove_dir_all(&dir);
             let steps: Vec<&str> = csv
