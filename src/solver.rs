@@ -969,6 +969,7 @@ impl Simulation {
                     ("v_z", &p.vz),
                     ("energy", &p.energy),
                     ("strain_energy", &p.strain_energy),
+                    ("mass", &p.mass),
                 ],
                 &[],
             )?;

@@ -85,6 +85,35 @@ fn smoke_case_runs_with_finite_fields() {
     ] {
         assert!(json.get(key).is_some(), "summary.json lacks {key}");
     }
+    // The last target frame's particle masses sum its specific energies to the summary's
+    // target energies (f32 in the frame).
+    let last = (0..)
+        .map(|k| out.join(format!("target_{k:05}.vtu")))
+        .take_while(|f| f.is_file())
+        .last()
+        .unwrap();
+    let frame = std::fs::read_to_string(last).unwrap();
+    let field = |name: &str| -> Vec<f64> {
+        let tag = format!("Name=\"{name}\"");
+        let body = frame.split(tag.as_str()).nth(1).unwrap();
+        let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
+        body.split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let mass = field("mass");
+    assert_eq!(mass.len(), s.particles);
+    let total = |name: &str| -> f64 { mass.iter().zip(field(name)).map(|(m, e)| m * e).sum() };
+    for (name, expected) in [
+        ("energy", s.energy.internal_target),
+        ("strain_energy", s.energy.strain_energy_target),
+    ] {
+        let summed = total(name);
+        assert!(
+            (summed - expected).abs() <= 1e-5 * expected.abs(),
+            "Σ mass·{name} = {summed} J against {expected} J"
+        );
+    }
     let _ = std::fs::remove_dir_all(&out);
 }
 
