@@ -96,7 +96,7 @@ pub fn check_fits(s: &Scene) -> Result<Footprint, String> {
     Ok(f)
 }
 
-const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+const GIB: f64 = 1024.0 * MIB;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Estimate {
@@ -109,19 +109,34 @@ pub struct Estimate {
     pub steps: u64,
     pub bytes: usize,
     /// VTK frames a run writes unless `--no-vtk`: the first, one per `run.output_interval`
-    /// (at most one a step) and the last (unless one of those fell on the last step).
+    /// (at most one a step, to `end_time` or `run.max_steps`) and the last (unless one of
+    /// those fell on the last step).
     pub frames: u64,
     /// The ASCII VTU bytes of one frame, target and projectile.
     pub frame_bytes: usize,
-    /// Rows a run to `end_time` writes to `history.csv`: the first, one per
-    /// `run.history_interval` reached (at most one a step) and the last (unless one of those
-    /// fell on the last step).
+    /// Rows a run writes to `history.csv`: the first, one per `run.history_interval` reached
+    /// (at most one a step, to `end_time` or `run.max_steps`) and the last (unless one of
+    /// those fell on the last step).
     pub history_rows: u64,
 }
 
+impl Estimate {
+    /// The bytes of every frame a run writes.
+    pub fn frames_bytes(&self) -> f64 {
+        self.frames as f64 * self.frame_bytes as f64
+    }
+
+    /// The bytes of `history.csv`.
+    pub fn history_bytes(&self) -> f64 {
+        self.history_rows as f64 * HISTORY_BYTES_PER_ROW as f64
+    }
+}
+
+pub const MIB: f64 = 1024.0 * 1024.0;
+
 /// Bytes of one `history.csv` row, a little above what a shot's rows take (the 277 m/s shot
 /// at ×2 and the shell at 112.5 m/s: 265 and 266 on average).
-pub const HISTORY_BYTES_PER_ROW: usize = 300;
+const HISTORY_BYTES_PER_ROW: usize = 300;
 
 /// ASCII VTU bytes a frame takes for each particle, node and element, a little above what the
 /// frames of a shot take once every value is in play (the 277 m/s shot at ×2 at its end: 128
@@ -178,16 +193,19 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     let bytes = particles * BYTES_PER_PARTICLE
         + m.elements.len() * BYTES_PER_ELEMENT
         + m.node_r.len() * BYTES_PER_NODE;
-    // After the first, one at each output_interval reached (at most one a step), the last at
-    // the end unless one of those fell on the last step.
+    // After the first, one at each interval reached (at most one a step of those the run
+    // takes), the last at the end unless one of those fell on the last step.
+    let taken = steps.min(s.run.max_steps);
     let frames = if s.run.output_interval > 0.0 {
         intervals(s.run.end_time, s.run.output_interval)
-            .min(steps)
+            .min(taken)
             .saturating_add(1)
     } else {
         2
     };
-    let history_rows = intervals(s.run.end_time, s.run.history_interval);
+    let history_rows = intervals(s.run.end_time, s.run.history_interval)
+        .min(taken)
+        .saturating_add(1);
     Estimate {
         particles,
         slaves,
@@ -200,7 +218,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
         frame_bytes: particles * FRAME_BYTES_PER_PARTICLE
             + m.node_r.len() * FRAME_BYTES_PER_NODE
             + m.elements.len() * FRAME_BYTES_PER_ELEMENT,
-        history_rows: history_rows.min(steps).saturating_add(1),
+        history_rows,
     }
 }
 
@@ -291,13 +309,17 @@ mod tests {
             let mut distinct = steps.clone();
             distinct.dedup();
             assert_eq!(distinct, steps, "a row written twice: {csv}");
-            let estimated = e.history_rows as usize * HISTORY_BYTES_PER_ROW;
+            let estimated = e.history_bytes();
+            let bytes = csv.len() as f64;
             assert!(
-                estimated >= csv.len() && estimated < 2 * csv.len(),
-                "{estimated} against {}",
-                csv.len()
+                estimated >= bytes && estimated < 2.0 * bytes,
+                "{estimated} against {bytes}"
             );
         }
+        // No more rows than the first and one a step of those `run.max_steps` lets the run take.
+        let capped = smoke(&["run.history_interval=1e-12", "run.max_steps=100"]);
+        let m = mesh::projectile::build(&capped.model_projectile()).unwrap();
+        assert_eq!(estimate(&capped, &m).history_rows, 101);
     }
 
     /// The target's step is set by the stiffest EOS tangent the concrete can reach: K₁ for the

@@ -536,16 +536,16 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 "# stable step ≈ {:.3e} s (FEM {:.3e}{sph}) → ≈ {} steps to end_time{cap}\n",
                 e.dt, e.dt_fem, e.steps
             );
-            out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / (1024.0 * 1024.0));
+            out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / estimate::MIB);
             out += &format!(
-                "# frames: {} to end_time (none with --no-vtk), ≈ {:.1} MiB of ASCII VTU\n",
+                "# frames: {} to the run's end (none with --no-vtk), ≈ {:.1} MiB of ASCII VTU\n",
                 e.frames,
-                e.frames as f64 * e.frame_bytes as f64 / (1024.0 * 1024.0)
+                e.frames_bytes() / estimate::MIB
             );
             out += &format!(
-                "# history: {} rows to end_time, ≈ {:.1} MiB\n",
+                "# history: {} rows to the run's end, ≈ {:.1} MiB\n",
                 e.history_rows,
-                e.history_rows as f64 * estimate::HISTORY_BYTES_PER_ROW as f64 / (1024.0 * 1024.0)
+                e.history_bytes() / estimate::MIB
             );
         }
         Err(e) => return Err(format!("projectile mesh: {e}")),

@@ -1377,9 +1377,9 @@ fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {
     output::write_whole(&out.join("summary.json"), (json + "\n").as_bytes())
 }
 
-/// Says on stderr when the frames (unless `--no-vtk`) and the history rows a run to
-/// `end_time` (or `max_steps`) writes, by `check`'s estimate, need more than the space free
-/// where they go: such a run stops when the disk is full (exit code 3).
+/// Says on stderr when the frames (unless `--no-vtk`) and the history rows a run writes, by
+/// `check`'s estimate, need more than the space free where they go: such a run stops when the
+/// disk is full (exit code 3).
 fn warn_if_outputs_overfill(scene: &Scene, out: &Path, vtk: bool) {
     let (Ok(mesh), Some(free)) = (
         mesh::projectile::build(&scene.model_projectile()),
@@ -1388,25 +1388,22 @@ fn warn_if_outputs_overfill(scene: &Scene, out: &Path, vtk: bool) {
         return;
     };
     let e = crate::estimate::estimate(scene, &mesh);
-    // No more than the first and one a step (the last is not written twice).
-    let frames = if vtk {
-        e.frames.min(scene.run.max_steps.saturating_add(1))
-    } else {
-        0
-    };
-    let rows = e.history_rows.min(scene.run.max_steps.saturating_add(1));
-    let frame_bytes = frames as f64 * e.frame_bytes as f64;
-    let row_bytes = rows as f64 * crate::estimate::HISTORY_BYTES_PER_ROW as f64;
-    if frame_bytes + row_bytes > free as f64 {
-        const MIB: f64 = 1024.0 * 1024.0;
+    let frame_bytes = if vtk { e.frames_bytes() } else { 0.0 };
+    if frame_bytes + e.history_bytes() > free as f64 {
+        use crate::estimate::MIB;
+        let rows = format!(
+            "{} history rows, ≈ {:.1} MiB,",
+            e.history_rows,
+            e.history_bytes() / MIB
+        );
         let what = if vtk {
             format!(
-                "{frames} frames, ≈ {:.1} MiB of ASCII VTU, and {rows} history rows, ≈ {:.1} MiB,",
-                frame_bytes / MIB,
-                row_bytes / MIB
+                "{} frames, ≈ {:.1} MiB of ASCII VTU, and {rows}",
+                e.frames,
+                frame_bytes / MIB
             )
         } else {
-            format!("{rows} history rows, ≈ {:.1} MiB,", row_bytes / MIB)
+            rows
         };
         let remedy = if vtk {
             "raise run.output_interval or run.history_interval, or pass --no-vtk"
