@@ -600,7 +600,9 @@ fn apply_override(doc: &mut Table, set: &str) -> Result<String, String> {
     Ok(key)
 }
 
-/// A TOML literal, or a bare word read as a string.
+/// A TOML literal, or a bare word read as a string. A decimal integer too large for TOML's
+/// 64 bits (`1` followed by twenty zeros, as a sweep writes 1e20) is read as the float it is,
+/// so that the key's own range check answers, not "wrong type".
 fn parse_literal(text: &str) -> Result<Value, String> {
     if text.is_empty() {
         return Err("no value after `=`".into());
@@ -610,6 +612,12 @@ fn parse_literal(text: &str) -> Result<Value, String> {
             if let Some(v) = t.remove("v") {
                 return Ok(v);
             }
+        }
+    }
+    let digits = text.strip_prefix(['+', '-']).unwrap_or(text);
+    if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) {
+        if let Ok(x) = text.parse::<f64>() {
+            return Ok(Value::Float(x));
         }
     }
     let bare = text
@@ -736,6 +744,8 @@ fn join(path: &str, key: &str) -> String {
 fn render(value: &Value) -> String {
     match value {
         Value::Table(_) => "a table".into(),
+        // Far from 1 in exponent form (1e308, not 309 digits cut at 40).
+        Value::Float(x) if *x != 0.0 && !(1e-6..1e15).contains(&x.abs()) => format!("{x:e}"),
         other => truncate(&other.to_string(), 40),
     }
 }

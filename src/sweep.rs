@@ -78,13 +78,23 @@ impl Vary {
 
     /// The `--set` override of value `v`.
     pub fn set(&self, v: f64) -> String {
-        format!("{}={v}", self.key)
+        format!("{}={}", self.key, number(v))
     }
 
     /// A run's directory name: the key's last part and the value, e.g. `velocity-300`.
     pub fn label(&self, v: f64) -> String {
         let last = self.key.rsplit('.').next().unwrap_or(&self.key);
-        format!("{last}-{v}")
+        format!("{last}-{}", number(v))
+    }
+}
+
+/// `v` as a sweep writes it in overrides, labels and `sweep.csv`: as written for ordinary
+/// magnitudes (`300`, `0.003`), in exponent form beyond them (`1e20`, not twenty-one digits).
+fn number(v: f64) -> String {
+    if v != 0.0 && !(1e-6..1e15).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
     }
 }
 
@@ -414,7 +424,7 @@ fn sweep_csv(vary: &Vary, records: &[RunRecord]) -> String {
     header.extend(SUMMARY_COLUMNS.iter().map(|c| c.to_string()));
     let mut text = csv_line(&header);
     for (v, r) in vary.values.iter().zip(records) {
-        let mut row = vec![v.to_string()];
+        let mut row = vec![number(*v)];
         row.extend(summary_fields(r));
         text += &csv_line(&row);
     }
@@ -453,6 +463,10 @@ mod tests {
         assert_eq!(v.values, vec![0.1, 0.2, 0.3]);
         assert_eq!(v.label(0.3), "spacing-0.3");
         assert_eq!(v.set(0.3), "target.spacing=0.3");
+        // Far from 1, in exponent form: a scene reads it as a number, and a label stays short.
+        assert_eq!(v.set(1e20), "target.spacing=1e20");
+        assert_eq!(v.label(2.5e-9), "spacing-2.5e-9");
+        assert_eq!(v.label(1e-6), "spacing-0.000001");
         // b need not be on the grid; a single value is a range too.
         assert_eq!(Vary::parse("k=1:2.5:1").unwrap().values, vec![1.0, 2.0]);
         assert_eq!(Vary::parse("k=5:5:1").unwrap().values, vec![5.0]);
