@@ -579,6 +579,37 @@ fn cli_rejects_bad_input_without_panicking() {
         text.contains("more than run.max_steps = 100000, where the run will stop"),
         "{text}"
     );
+    // The lattice column nearest the shank: at 3 mm spacing the one at 13.5 mm grazes the
+    // 13.45 mm shank, which a rigid projectile's run is warned about; at 3.1 mm it is 0.5 mm off.
+    let column_line = |sets: &[&str]| {
+        let mut cmd = Command::new(bin);
+        cmd.args([
+            "check",
+            &case("forrestal1994-277.toml").display().to_string(),
+        ]);
+        for s in sets {
+            cmd.args(["--set", s]);
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        text.lines()
+            .find(|l| l.starts_with("# lattice: "))
+            .unwrap_or_else(|| panic!("no lattice line: {text}"))
+            .to_string()
+    };
+    let grazing = column_line(&["contact.lambda=0", "target.spacing=0.003"]);
+    assert!(
+        grazing.contains("r = 13.500 mm, 0.050 mm outside") && grazing.contains("amplifies"),
+        "{grazing}"
+    );
+    for sets in [
+        &["contact.lambda=0", "target.spacing=0.0031"][..],
+        &["target.spacing=0.003"][..],
+    ] {
+        let line = column_line(sets);
+        assert!(!line.contains("amplifies"), "{sets:?}: {line}");
+    }
     // A Taylor bar has no target and so no SPH step; its step does not depend on where its
     // wall is (the mesh is built at the model's origin, as the run builds it).
     let step_line = |wall_z: &str| {

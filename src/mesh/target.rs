@@ -66,6 +66,16 @@ pub fn lattice(
     Ok(t)
 }
 
+/// The lattice column (r = (i + ½)Δ) nearest to radius `r`, and how far outside `r` it lies
+/// (negative: inside). `penetrate check` reports it for the projectile's shank: a column that
+/// grazes the shank is met by the contact or not as round-off decides (README, "Known
+/// shortcomings").
+pub fn nearest_column(r: f64, spacing: f64) -> (f64, f64) {
+    let i = (r / spacing - 0.5).round().max(0.0);
+    let column = (i + 0.5) * spacing;
+    (column, column - r)
+}
+
 /// Whether a particle at (r, z) lies in a lead hole `depth` deep and `diameter` wide.
 fn in_hole(r: f32, z: f32, depth: f64, diameter: f64) -> bool {
     f64::from(r) < 0.5 * diameter && f64::from(z) > -depth
@@ -229,6 +239,28 @@ mod tests {
         (0..t.r.len())
             .find(|&i| t.r[i] == r && t.z[i] == z)
             .unwrap()
+    }
+
+    #[test]
+    fn nearest_column_to_the_shank() {
+        let close = |(a, b): (f64, f64), (c, d): (f64, f64)| {
+            assert!((a - c).abs() < 1e-12 && (b - d).abs() < 1e-12, "{a} {b}")
+        };
+        // The Forrestal shank (r = 13.45 mm): at Δ = 3 mm the column at 13.5 mm grazes it.
+        close(nearest_column(0.01345, 0.003), (0.0135, 0.00005));
+        close(nearest_column(0.01345, 0.0031), (0.01395, 0.0005));
+        close(nearest_column(0.01345, 0.0029), (0.01305, -0.0004));
+        close(nearest_column(0.01345, 0.004), (0.014, 0.00055));
+        // Every column a lattice builds is one (i + ½)Δ, and none is nearer.
+        let t = lattice(0.1, 0.02, 0.003, 2370.0).unwrap();
+        let (col, gap) = nearest_column(0.01345, 0.003);
+        let best =
+            t.r.iter()
+                .map(|&r| (r as f64 - 0.01345).abs())
+                .fold(1.0, f64::min);
+        assert!((best - gap.abs()).abs() < 1e-8 && t.r.contains(&(col as f32)));
+        // A radius inside the first column gives the first column.
+        close(nearest_column(0.0001, 0.003), (0.0015, 0.0014));
     }
 
     #[test]
