@@ -29,6 +29,10 @@ pub struct BenchRow {
     /// more, ms (GPU only).
     pub list_builds: Option<u64>,
     pub build_ms: Option<f64>,
+    /// The host's share of a timed GPU step, µs: recording the passes, finishing and
+    /// submitting them, waiting for the read-back (the GPU's work and the round trip), and the
+    /// rest (the contact correction, its writes and the solver's bookkeeping).
+    pub host_us: Option<[f64; 4]>,
     /// Why this size did not run on this backend (a limit of the adapter, say).
     pub refused: Option<String>,
 }
@@ -85,6 +89,7 @@ pub fn run(
                         bytes_per_particle: None,
                         list_builds: None,
                         build_ms: None,
+                        host_us: None,
                         refused: Some(e.to_string()),
                     });
                     continue;
@@ -102,11 +107,27 @@ pub fn run(
             ));
             let builds = |sim: &mut Simulation| sim.gpu_step().map(|g| g.builds);
             let builds_before = builds(&mut sim);
+            let host_before = sim.gpu_step().map(|g| g.host);
             let start = Instant::now();
             for _ in 0..timed {
                 sim.step().map_err(|e| e.to_string())?;
             }
             let wall = start.elapsed().as_secs_f64();
+            let host_us = sim
+                .gpu_step()
+                .map(|g| g.host)
+                .zip(host_before)
+                .map(|(a, b)| {
+                    let per_step = |x: f64| 1e6 * x / timed as f64;
+                    let (record, submit, wait) =
+                        (a.record - b.record, a.submit - b.submit, a.wait - b.wait);
+                    [
+                        per_step(record),
+                        per_step(submit),
+                        per_step(wait),
+                        per_step(wall - record - submit - wait),
+                    ]
+                });
             let list_builds = builds(&mut sim).zip(builds_before).map(|(a, b)| a - b);
             let particles = sim.particles.len();
             let mut row = BenchRow {
@@ -125,6 +146,7 @@ pub fn run(
                 bytes_per_particle: None,
                 list_builds,
                 build_ms: None,
+                host_us,
                 refused: None,
             };
             if let Some(g) = sim.gpu_step() {
@@ -176,12 +198,12 @@ fn profile(sim: &mut Simulation, steps: usize) -> Result<Vec<(&'static str, f64)
 /// The table as Markdown.
 pub fn table(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build | host µs/step: record / submit / wait / rest |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(why) = &r.refused {
             out += &format!(
-                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – |\n",
+                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – | – |\n",
                 r.backend,
                 r.particles,
                 why.replace('|', "/")
@@ -189,7 +211,7 @@ pub fn table(rows: &[BenchRow]) -> String {
             continue;
         }
         out += &format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} | {} |\n",
             r.backend,
             r.particles,
             r.elements,
@@ -201,6 +223,10 @@ pub fn table(rows: &[BenchRow]) -> String {
                 .map_or("–".into(), |v| format!("{v:.0}")),
             r.list_builds.map_or("–".into(), |v| v.to_string()),
             r.build_ms.map_or("–".into(), |v| format!("{v:.2}")),
+            r.host_us.map_or("–".into(), |h| format!(
+                "{:.0} / {:.0} / {:.0} / {:.0}",
+                h[0], h[1], h[2], h[3]
+            )),
         );
     }
     let profiled: Vec<&BenchRow> = rows.iter().filter(|r| !r.pass_ms.is_empty()).collect();

@@ -17,6 +17,8 @@
 //! the lists' skin (`LIST_SKIN`). `flush` runs a pending second half alone, so that the GPU
 //! state is the CPU's after the same number of `Simulation::step` calls (for outputs).
 
+use std::time::Instant;
+
 use super::contact::ContactPass;
 use super::fem::FemPass;
 use super::integrate::{
@@ -105,8 +107,19 @@ pub struct GpuStep {
     since_build: f32,
     /// Neighbour-list builds so far.
     pub builds: u64,
+    /// Host seconds spent in `advance` so far (`bench` splits the step's wall time by them).
+    pub host: HostSeconds,
     /// Timestamps between passes (`bench`), where the adapter has them.
     profiler: Option<Profiler>,
+}
+
+/// Host wall time of the steps' `advance` calls, summed: recording the command buffer, the
+/// submission, and the wait for the read-back (which holds the GPU's own time for the step).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HostSeconds {
+    pub record: f64,
+    pub submit: f64,
+    pub wait: f64,
 }
 
 /// The step's passes in recording order, as the profiler names its intervals.
@@ -331,6 +344,7 @@ impl GpuStep {
             list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
             since_build: f32::INFINITY,
             builds: 0,
+            host: HostSeconds::default(),
             profiler: None,
         })
     }
@@ -473,6 +487,7 @@ impl GpuStep {
 
     /// Advance one step up to the contact correction and read back what the host needs.
     pub fn advance(&mut self) -> Result<Readback, String> {
+        let start = Instant::now();
         let build = self.pending_forces && self.lists_stale();
         let mut encoder = self
             .gpu
@@ -537,12 +552,17 @@ impl GpuStep {
         {
             encoder.copy_buffer_to_buffer(b, 0, &self.staging, l.nodes + k as u64 * nn, nn);
         }
+        let recorded = Instant::now();
         self.gpu.queue.submit([encoder.finish()]);
+        let submitted = Instant::now();
         self.built(build);
         self.pending_forces = true;
         self.pending_fixes = 0;
         let l = &self.layout;
         let bytes = self.gpu.map_read(&self.staging, l.size as usize)?;
+        self.host.record += (recorded - start).as_secs_f64();
+        self.host.submit += (submitted - recorded).as_secs_f64();
+        self.host.wait += submitted.elapsed().as_secs_f64();
         let words: &[u32] = bytemuck::cast_slice(&bytes);
         let floats: &[f32] = bytemuck::cast_slice(&bytes);
         let at = |offset: u64| (offset / 4) as usize;
