@@ -313,3 +313,39 @@ fn gpu_builds_only_the_passes_a_scene_needs() {
             .any(|p| p.starts_with("sph") || p.starts_with("contact")));
     }
 }
+
+/// `bench` on the GPU: the host's share of a step (record, submit, wait, rest) partitions the
+/// timed wall time, and the step waits for the GPU; the CPU path has no such split.
+#[test]
+fn bench_splits_the_gpu_step_on_the_host() {
+    use penetrate::bench;
+    let adapter = std::env::var("PENETRATE_ADAPTER").ok();
+    gpu();
+    let case = case("forrestal1994-277.toml");
+    let rows = bench::run(
+        &case,
+        &[1700],
+        &[Backend::Gpu, Backend::Cpu],
+        adapter.as_deref(),
+        3,
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(rows.len(), 2);
+    let gpu_row = &rows[0];
+    assert!(gpu_row.refused.is_none(), "{:?}", gpu_row.refused);
+    let [record, submit, wait, rest] = gpu_row.host_us.expect("a GPU row has the host split");
+    assert!(
+        record > 0.0 && submit > 0.0 && wait > 0.0 && rest >= 0.0,
+        "{:?}",
+        gpu_row.host_us
+    );
+    let sum = record + submit + wait + rest;
+    assert!(
+        (sum - 1e3 * gpu_row.ms_per_step).abs() < 1e-6 * sum,
+        "{sum} µs against {} ms",
+        gpu_row.ms_per_step
+    );
+    assert!(rows[1].host_us.is_none());
+    assert!(bench::table(&rows).contains(" / "));
+}
