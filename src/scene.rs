@@ -601,8 +601,8 @@ fn apply_override(doc: &mut Table, set: &str) -> Result<String, String> {
 }
 
 /// A TOML literal, or a bare word read as a string. A decimal integer too large for TOML's
-/// 64 bits (`1` followed by twenty zeros, as a sweep writes 1e20) is read as the float it is,
-/// so that the key's own range check answers, not "wrong type".
+/// 64 bits (`--set projectile.velocity=100000000000000000000`) is read as the float it is, so
+/// that the key's own range check answers, not "wrong type".
 fn parse_literal(text: &str) -> Result<Value, String> {
     if text.is_empty() {
         return Err("no value after `=`".into());
@@ -744,9 +744,18 @@ fn join(path: &str, key: &str) -> String {
 fn render(value: &Value) -> String {
     match value {
         Value::Table(_) => "a table".into(),
-        // Far from 1 in exponent form (1e308, not 309 digits cut at 40).
-        Value::Float(x) if *x != 0.0 && !(1e-6..1e15).contains(&x.abs()) => format!("{x:e}"),
+        Value::Float(x) => truncate(&number_text(*x), 40),
         other => truncate(&other.to_string(), 40),
+    }
+}
+
+/// `x` as messages and sweeps write it: in decimals for ordinary magnitudes (`300`, `0.003`),
+/// in exponent form beyond them (`1e308`, not 309 digits). Read back, it is `x` again.
+pub fn number_text(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-6..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        x.to_string()
     }
 }
 

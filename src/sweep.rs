@@ -78,23 +78,13 @@ impl Vary {
 
     /// The `--set` override of value `v`.
     pub fn set(&self, v: f64) -> String {
-        format!("{}={}", self.key, number(v))
+        format!("{}={}", self.key, scene::number_text(v))
     }
 
     /// A run's directory name: the key's last part and the value, e.g. `velocity-300`.
     pub fn label(&self, v: f64) -> String {
         let last = self.key.rsplit('.').next().unwrap_or(&self.key);
-        format!("{last}-{}", number(v))
-    }
-}
-
-/// `v` as a sweep writes it in overrides, labels and `sweep.csv`: as written for ordinary
-/// magnitudes (`300`, `0.003`), in exponent form beyond them (`1e20`, not twenty-one digits).
-fn number(v: f64) -> String {
-    if v != 0.0 && !(1e-6..1e15).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        v.to_string()
+        format!("{last}-{}", scene::number_text(v))
     }
 }
 
@@ -424,7 +414,7 @@ fn sweep_csv(vary: &Vary, records: &[RunRecord]) -> String {
     header.extend(SUMMARY_COLUMNS.iter().map(|c| c.to_string()));
     let mut text = csv_line(&header);
     for (v, r) in vary.values.iter().zip(records) {
-        let mut row = vec![number(*v)];
+        let mut row = vec![scene::number_text(*v)];
         row.extend(summary_fields(r));
         text += &csv_line(&row);
     }
