@@ -102,6 +102,8 @@ const GIB: f64 = 1024.0 * MIB;
 pub struct Estimate {
     pub particles: usize,
     pub slaves: usize,
+    /// The projectile mesh's smallest element altitude (m), which sets `dt_fem`.
+    pub fem_altitude: f64,
     pub dt_fem: f64,
     pub dt_sph: f64,
     pub dt: f64,
@@ -209,6 +211,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     Estimate {
         particles,
         slaves,
+        fem_altitude: l_min,
         dt_fem,
         dt_sph,
         dt,

@@ -1234,7 +1234,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         return Ok(RunOutcome { summary, ok: false });
     }
     attach(&mut sim, backend, opts.adapter.as_deref())?;
-    warn_if_outputs_overfill(scene, &opts.out, opts.vtk);
+    warn_from_estimate(scene, &opts.out, opts.vtk);
     let mut history = History::create(&history_file).map_err(io)?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
@@ -1377,17 +1377,52 @@ fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {
     output::write_whole(&out.join("summary.json"), (json + "\n").as_bytes())
 }
 
-/// Says on stderr when the frames (unless `--no-vtk`) and the history rows a run writes, by
-/// `check`'s estimate, need more than the space free where they go: such a run stops when the
-/// disk is full (exit code 3).
-fn warn_if_outputs_overfill(scene: &Scene, out: &Path, vtk: bool) {
-    let (Ok(mesh), Some(free)) = (
-        mesh::projectile::build(&scene.model_projectile()),
-        output::free_bytes(out),
-    ) else {
+/// Says on stderr what `check`'s estimate foresees going wrong before the run starts: more
+/// steps than `run.max_steps` to `run.end_time`, and outputs that overfill the disk.
+fn warn_from_estimate(scene: &Scene, out: &Path, vtk: bool) {
+    let Ok(mesh) = mesh::projectile::build(&scene.model_projectile()) else {
         return;
     };
     let e = crate::estimate::estimate(scene, &mesh);
+    if let Some(line) = steps_warning(scene, &e) {
+        eprintln!("{line}");
+    }
+    if let Some(free) = output::free_bytes(out) {
+        warn_if_outputs_overfill(&e, out, vtk, free);
+    }
+}
+
+/// The warning for a run whose estimated steps to `run.end_time` exceed `run.max_steps` (a
+/// sliver in the projectile's mesh, from a feature far smaller than its elements, can ask for
+/// billions), naming what sets the step; `None` when the cap is not in reach. The estimate
+/// takes the concrete at its stiffest, so a run may take fewer steps than it says.
+fn steps_warning(scene: &Scene, e: &crate::estimate::Estimate) -> Option<String> {
+    if e.steps <= scene.run.max_steps {
+        return None;
+    }
+    let by = if e.dt_fem <= e.dt_sph {
+        format!(
+            "the projectile mesh's smallest element, {:.3e} m high ({:.2e} of projectile.element_size)",
+            e.fem_altitude,
+            e.fem_altitude / scene.projectile.element_size
+        )
+    } else {
+        "the concrete's particles (target.spacing and its stiffness)".to_string()
+    };
+    Some(format!(
+        "penetrate: warning: this run needs ≈ {} steps to run.end_time = {} s at check's estimated step of {:.3e} s, set by {by}; it will stop at run.max_steps = {}, near t ≈ {:.3e} s",
+        e.steps,
+        scene.run.end_time,
+        e.dt,
+        scene.run.max_steps,
+        scene.run.max_steps as f64 * e.dt
+    ))
+}
+
+/// Says on stderr when the frames (unless `--no-vtk`) and the history rows a run writes, by
+/// `check`'s estimate, need more than the `free` bytes where they go: such a run stops when
+/// the disk is full (exit code 3).
+fn warn_if_outputs_overfill(e: &crate::estimate::Estimate, out: &Path, vtk: bool, free: u64) {
     let frame_bytes = if vtk { e.frames_bytes() } else { 0.0 };
     if frame_bytes + e.history_bytes() > free as f64 {
         use crate::estimate::MIB;

@@ -1155,3 +1155,29 @@ fn a_run_whose_history_cannot_fit_is_warned_about() {
         "{first}"
     );
 }
+
+/// A run that by `check`'s estimate cannot reach its end time within `run.max_steps` says so
+/// before it starts, naming the cap and what sets the step; one that can says nothing.
+#[test]
+fn a_run_that_will_reach_max_steps_is_warned_about() {
+    let stderr_of = |max_steps: &str| {
+        let dir = scratch(&format!("max-steps-{max_steps}"));
+        let out = cpu_run("smoke.toml", &dir)
+            .args(["--no-vtk", "--set", &format!("run.max_steps={max_steps}")])
+            .output()
+            .unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        String::from_utf8(out.stderr).unwrap()
+    };
+    // The smoke scene takes about 400 steps to its end time.
+    let capped = stderr_of("100");
+    let first = capped.lines().next().unwrap_or_default();
+    assert!(
+        first.starts_with("penetrate: warning: this run needs ≈")
+            && first.contains("it will stop at run.max_steps = 100")
+            && first.contains("the projectile mesh's smallest element"),
+        "{capped}"
+    );
+    let free = stderr_of("1000");
+    assert!(!free.contains("warning"), "{free}");
+}
