@@ -1410,9 +1410,9 @@ fn steps_warning(scene: &Scene, e: &crate::estimate::Estimate) -> Option<String>
         "the concrete's particles (target.spacing and its stiffness)".to_string()
     };
     Some(format!(
-        "penetrate: warning: this run needs ≈ {} steps to run.end_time = {} s at check's estimated step of {:.3e} s, set by {by}; it will stop at run.max_steps = {}, near t ≈ {:.3e} s",
+        "penetrate: warning: this run needs ≈ {} steps to run.end_time = {} s at check's estimated step of {:.3e} s, set by {by}; run.max_steps = {} would stop it near t ≈ {:.3e} s",
         e.steps,
-        scene.run.end_time,
+        crate::scene::number_text(scene.run.end_time),
         e.dt,
         scene.run.max_steps,
         scene.run.max_steps as f64 * e.dt

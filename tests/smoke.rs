@@ -1174,7 +1174,7 @@ fn a_run_that_will_reach_max_steps_is_warned_about() {
     let first = capped.lines().next().unwrap_or_default();
     assert!(
         first.starts_with("penetrate: warning: this run needs ≈")
-            && first.contains("it will stop at run.max_steps = 100")
+            && first.contains("run.max_steps = 100 would stop it")
             && first.contains("the projectile mesh's smallest element"),
         "{capped}"
     );
