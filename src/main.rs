@@ -542,7 +542,7 @@ fn check_report(s: &Scene) -> Result<String, String> {
             }
             let cap = if e.steps > s.run.max_steps {
                 format!(
-                    "; more than run.max_steps = {}, where the run will stop",
+                    "; more than run.max_steps = {}, which would stop the run",
                     s.run.max_steps
                 )
             } else {
@@ -557,8 +557,8 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 String::new()
             };
             out += &format!(
-                "# stable step ≈ {:.3e} s (FEM {:.3e}{sph}) → ≈ {} steps to end_time{cap}\n",
-                e.dt, e.dt_fem, e.steps
+                "# stable step ≈ {:.3e} s (FEM {:.3e}, its smallest element {:.3e} m high{sph}) → ≈ {} steps to end_time{cap}\n",
+                e.dt, e.dt_fem, e.fem_altitude, e.steps
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / estimate::MIB);
             out += &format!(

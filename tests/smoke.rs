@@ -564,7 +564,7 @@ fn cli_rejects_bad_input_without_panicking() {
         text.contains("projectile.velocity") && text.contains("particles"),
         "{text}"
     );
-    assert!(!text.contains("where the run will stop"), "{text}");
+    assert!(!text.contains("which would stop the run"), "{text}");
     // A concrete whose elastic modulus is 10⁷ times K₁ needs 1.6·10⁶ steps of 1.2e-11 s; the
     // estimate says so, and that the run will stop at max_steps first.
     let out = Command::new(bin)
@@ -576,7 +576,7 @@ fn cli_rejects_bad_input_without_panicking() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("more than run.max_steps = 100000, where the run will stop"),
+        text.contains("more than run.max_steps = 100000, which would stop the run"),
         "{text}"
     );
     // The lattice column nearest the shank: at 3 mm spacing the one at 13.5 mm grazes the
@@ -1180,4 +1180,15 @@ fn a_run_that_will_reach_max_steps_is_warned_about() {
     );
     let free = stderr_of("1000");
     assert!(!free.contains("warning"), "{free}");
+    // `check`'s step line names the height of the element that sets the projectile's step.
+    let out = Command::new(env!("CARGO_BIN_EXE_penetrate"))
+        .args(["check", &case("smoke.toml").display().to_string()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text.lines().find(|l| l.contains("stable step")).unwrap();
+    assert!(
+        line.contains("its smallest element 5.989e-4 m high"),
+        "{line}"
+    );
 }
