@@ -468,8 +468,15 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
         file: path.to_path_buf(),
         why,
     };
-    let bytes = std::fs::read(path)
-        .map_err(|e| io(format!("cannot read the scene file ({e}); check the path")))?;
+    let bytes = read_capped(path, SCENE_FILE_LIMIT)
+        .map_err(|e| io(format!("cannot read the scene file ({e}); check the path")))?
+        .ok_or_else(|| {
+            io(format!(
+                "larger than {} MiB, not a scene file (a scene is a few kB of TOML); check \
+                 the path",
+                SCENE_FILE_LIMIT >> 20
+            ))
+        })?;
     let text = String::from_utf8(bytes).map_err(|e| {
         io(format!(
             "not UTF-8 text (invalid byte at offset {}); save the file as UTF-8",
@@ -477,6 +484,20 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
         ))
     })?;
     parse_str(&text, path, overrides)
+}
+
+/// The most bytes a scene file may have: shipped scenes have 2–4 kB.
+pub const SCENE_FILE_LIMIT: u64 = 1 << 20;
+
+/// The bytes of the file at `path`, or `None` when it has more than `limit` (read no further:
+/// a path such as /dev/zero never ends).
+pub fn read_capped(path: &Path, limit: u64) -> std::io::Result<Option<Vec<u8>>> {
+    use std::io::Read as _;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(limit + 1)
+        .read_to_end(&mut bytes)?;
+    Ok((bytes.len() as u64 <= limit).then_some(bytes))
 }
 
 /// A shipped case (`cases/<name>`) with `--set` overrides, for unit tests.

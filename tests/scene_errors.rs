@@ -516,6 +516,28 @@ fn unreadable_paths() {
         msg.contains("not-utf8.toml") && msg.contains("UTF-8"),
         "{msg}"
     );
+
+    // A file that never ends is refused once it passes the limit, not read until memory runs
+    // out; so is a file just over the limit, and one at it is read.
+    let msg = load(Path::new("/dev/zero"), &[]).unwrap_err().to_string();
+    assert!(
+        msg.starts_with("/dev/zero: ") && msg.contains("larger than 1 MiB"),
+        "{msg}"
+    );
+    let big = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("big.toml");
+    let limit = penetrate::scene::SCENE_FILE_LIMIT as usize;
+    let mut text = smoke_text().into_bytes();
+    text.resize(limit, b'\n');
+    std::fs::write(&big, &text).unwrap();
+    load(&big, &[]).expect("a scene of exactly the limit is read");
+    text.push(b'\n');
+    std::fs::write(&big, &text).unwrap();
+    let msg = load(&big, &[]).unwrap_err().to_string();
+    assert!(
+        msg.contains("big.toml") && msg.contains("larger than 1 MiB"),
+        "{msg}"
+    );
+    let _ = std::fs::remove_file(&big);
 }
 
 #[test]

@@ -31,6 +31,8 @@ pub struct Shot {
 
 pub const TAYLOR_FILE: &str = "taylor.csv";
 pub const FORRESTAL_FILE: &str = "forrestal1994.csv";
+/// The most bytes a data file may have: the shipped ones have under 1 kB.
+const DATA_FILE_LIMIT: u64 = 16 << 20;
 
 pub fn taylor(dir: &Path) -> Result<Vec<TaylorTest>, ValidateError> {
     let table = Table::read(&dir.join(TAYLOR_FILE))?;
@@ -70,10 +72,19 @@ struct Table {
 impl Table {
     fn read(path: &Path) -> Result<Table, ValidateError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| {
+        let unreadable = |why: String| {
             ValidateError::Input(format!(
-                "{file}: cannot read the data file ({e}); pass --data DIR, the folder with \
+                "{file}: cannot read the data file ({why}); pass --data DIR, the folder with \
                  {TAYLOR_FILE} and {FORRESTAL_FILE}"
+            ))
+        };
+        let bytes = crate::scene::read_capped(path, DATA_FILE_LIMIT)
+            .map_err(|e| unreadable(e.to_string()))?
+            .ok_or_else(|| unreadable(format!("larger than {} MiB", DATA_FILE_LIMIT >> 20)))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            unreadable(format!(
+                "not UTF-8 text, invalid byte at offset {}",
+                e.utf8_error().valid_up_to()
             ))
         })?;
         let split =
