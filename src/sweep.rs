@@ -285,14 +285,19 @@ pub fn completed_run(
             .map(String::from)
             .collect()
     };
-    let written = std::fs::read_to_string(dir.join(solver::SCENE_FILE)).ok()?;
+    // Both files are a few kB; anything over the scene limit is not a run's (nor read on).
+    let small = |name: &str| {
+        let bytes = scene::read_capped(&dir.join(name), scene::SCENE_FILE_LIMIT).ok()??;
+        String::from_utf8(bytes).ok()
+    };
+    let written = small(solver::SCENE_FILE)?;
     if settings(&written) != settings(&scene.resolved_table()) {
         return None;
     }
     if vtk && !dir.join("frames.pvd").is_file() {
         return None;
     }
-    let json = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+    let json = small("summary.json")?;
     let summary: Summary = serde_json::from_str(&json).ok()?;
     let same_adapter = backend != Backend::Gpu || gpu_adapter == Some(summary.adapter.as_str());
     (summary.status == "completed"
@@ -440,6 +445,34 @@ pub fn csv_line<S: AsRef<str>>(fields: &[S]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `--resume` reads a run's `scene.toml` and `summary.json` only up to the scene-file
+    /// limit: a folder whose files are junk, or never end (/dev/zero), holds no completed run.
+    #[cfg(unix)]
+    #[test]
+    fn junk_in_a_run_folder_is_no_completed_run() {
+        let scene = scene::shipped_case("smoke.toml", &[]);
+        let dir = std::env::temp_dir().join(format!("penetrate-junk-run-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene_file = dir.join(solver::SCENE_FILE);
+        let summary = dir.join("summary.json");
+        let zero = Path::new("/dev/zero");
+        let check = || completed_run(&dir, &scene, Backend::Cpu, None, false, &[]).is_none();
+
+        std::os::unix::fs::symlink(zero, &scene_file).unwrap();
+        assert!(check(), "scene.toml that never ends");
+        std::fs::remove_file(&scene_file).unwrap();
+        std::fs::write(&scene_file, scene.resolved_table()).unwrap();
+        std::os::unix::fs::symlink(zero, &summary).unwrap();
+        assert!(check(), "summary.json that never ends");
+        std::fs::remove_file(&summary).unwrap();
+        std::fs::write(&summary, b"{\"status\": \xff").unwrap();
+        assert!(check(), "summary.json not UTF-8");
+        std::fs::write(&summary, b"{\"status\": \"completed\"").unwrap();
+        assert!(check(), "summary.json cut short");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn a_range_includes_both_ends_without_round_off() {
