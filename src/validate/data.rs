@@ -170,6 +170,20 @@ impl Row<'_> {
 mod tests {
     use super::*;
 
+    /// A data path that never ends (/dev/zero) is refused at the limit, not read on.
+    #[cfg(unix)]
+    #[test]
+    fn an_endless_data_file_is_refused() {
+        let e = Table::read(Path::new("/dev/zero"))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("/dev/zero") && e.contains("larger than 16 MiB"),
+            "{e}"
+        );
+    }
+
     #[test]
     fn columns_come_from_the_comment_line_before_the_data() {
         let dir = std::env::temp_dir().join(format!("penetrate-data-{}", std::process::id()));
