@@ -540,7 +540,12 @@ fn check_report(s: &Scene) -> Result<String, String> {
             if let Some(t) = &s.target {
                 out += &shank_column_line(s.projectile.diameter / 2.0, t.spacing, s.contact.lambda);
             }
-            let cap = if e.steps > s.run.max_steps {
+            let cap = if e.dt <= f64::from(solver::MIN_STEP) {
+                format!(
+                    "; not above {:e} s, under which a run takes its step as collapsed and stops",
+                    solver::MIN_STEP
+                )
+            } else if e.steps > s.run.max_steps {
                 format!(
                     "; more than run.max_steps = {}, which would stop the run",
                     s.run.max_steps

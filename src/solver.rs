@@ -440,7 +440,9 @@ impl Simulation {
     fn check_dt(&self, dt: f32) -> Result<(), RunError> {
         if collapsed(dt) {
             return Err(RunError::Unstable(format!(
-                "time step collapsed to {dt:e} s at step {}, t {:.4e} s: {}",
+                "time step collapsed to {dt:e} s (the least stable step × run.cfl = {}; a step \
+                 under {MIN_STEP:e} s is taken as a collapse) at step {}, t {:.4e} s: {}",
+                crate::scene::number_text(self.scene.run.cfl),
                 self.step,
                 self.time,
                 self.smallest_step_site()
@@ -1085,9 +1087,12 @@ struct Slaves<'a> {
     mass: &'a [f32],
 }
 
+/// The smallest step a run goes on with (s): below it the run has collapsed.
+pub const MIN_STEP: f32 = 1.0e-13;
+
 /// A step too small to go on with (or not a number): the run has collapsed.
 fn collapsed(dt: f32) -> bool {
-    !(dt.is_finite() && dt > 1.0e-13)
+    !(dt.is_finite() && dt > MIN_STEP)
 }
 
 /// The λ correction of `hits` (physics.md §4) on `slaves` and the projectile's nodes; its

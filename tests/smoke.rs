@@ -579,6 +579,23 @@ fn cli_rejects_bad_input_without_panicking() {
         text.contains("more than run.max_steps = 100000, which would stop the run"),
         "{text}"
     );
+    assert!(
+        !text.contains("under which a run takes its step as collapsed"),
+        "{text}"
+    );
+    // A Courant number of 1e-9 asks for steps of 1e-16 s: the estimate says the run would
+    // take them as collapsed.
+    let out = Command::new(bin)
+        .args(["check", &case("smoke.toml").display().to_string()])
+        .args(["--set", "run.cfl=1e-9"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("; not above 1e-13 s, under which a run takes its step as collapsed"),
+        "{text}"
+    );
     // The lattice column nearest the shank: at 3 mm spacing the one at 13.5 mm grazes the
     // 13.45 mm shank, which a rigid projectile's run is warned about; at 3.1 mm it is 0.5 mm off.
     let column_line = |sets: &[&str]| {
@@ -695,6 +712,7 @@ fn a_collapsed_step_names_where() {
         err.contains("time step collapsed") && err.contains("step 6"),
         "{err}"
     );
+    assert!(err.contains("× run.cfl = 1e-7;"), "{err}");
     common::assert_smallest_step_named(&sim, &err);
 }
 
