@@ -4,7 +4,6 @@ use crate::cpu::fem_stress::Geometry;
 use crate::materials::hjc;
 use crate::mesh::{self, ProjectileMesh};
 use crate::scene::{Scene, TargetSpec};
-use crate::state::FemParams;
 
 /// Bytes of state per particle (28 scalar arrays, 2 three-vectors and the 2 index arrays of
 /// the cell grid), per element and per node (with its share of the node → element CSR).
@@ -163,9 +162,7 @@ fn intervals(end: f64, interval: f64) -> u64 {
 }
 
 pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
-    let fem = FemParams::new(&s.projectile.material);
-    let k = fem.eos.k1 as f64 + 4.0 / 3.0 * fem.shear_modulus as f64;
-    let c_steel = (k / fem.density as f64).sqrt();
+    let c_steel = s.projectile.material.wave_speed();
     let l_min = m
         .elements
         .iter()

@@ -164,6 +164,15 @@ pub struct SteelMaterial {
     pub damage: Option<JcDamage>,
 }
 
+impl SteelMaterial {
+    /// The elastic (dilatational) wave speed at rest, √((K₁ + 4G/3)/ρ) with G = E/(2(1 + ν)),
+    /// m/s: what sets the explicit step across an element.
+    pub fn wave_speed(&self) -> f64 {
+        let shear = self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio));
+        ((f64::from(self.eos.k1) + 4.0 / 3.0 * shear) / self.density).sqrt()
+    }
+}
+
 /// `[target]`: a concrete cylinder, axis on r = 0, front face z = 0, rear face z = −thickness.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TargetSpec {
@@ -1501,6 +1510,21 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
         "must be in [0, 5000] (m/s): the striking speed, not negative (flight is along −z); \
          the material models are not meant beyond 5 km/s",
     )?;
+    let material = resolve_steel(c, &p.material)?;
+    // The explicit step is the time a wave takes across the smallest element: a solid struck
+    // faster than its waves travel would move its nodes farther than an element in one step.
+    let wave = material.wave_speed();
+    c.require(
+        p.velocity < wave,
+        "projectile.velocity",
+        p.velocity,
+        &format!(
+            "must be below the projectile's elastic wave speed √((K₁ + 4G/3)/ρ) = {} m/s \
+             (projectile.material: a metal's is thousands of m/s; are its moduli or its density \
+             in the wrong unit?)",
+            approx(wave)
+        ),
+    )?;
     let cavity = match &p.cavity {
         None => None,
         Some(cav) => {
@@ -1551,7 +1575,7 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
         element_size,
         velocity: p.velocity,
         nose_z: 0.0,
-        material: resolve_steel(c, &p.material)?,
+        material,
     })
 }
 
@@ -1630,6 +1654,27 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         k3: k.eos_k3 as f32,
         gamma: k.eos_gamma as f32,
     };
+    // The EOS's K₁ and the elastic E, ν describe one solid: the stress update takes its
+    // shear modulus from E and ν and its pressure from K₁, so a K₁ far from E/(3(1 − 2ν)) runs
+    // another Poisson's ratio than the one given (or one of them is in the wrong unit).
+    let ratio = eos_k1 / bulk;
+    if !(0.5..=2.0).contains(&ratio) {
+        return Err(c.conflict(
+            &[
+                &key("eos_k1"),
+                &key("youngs_modulus"),
+                &key("poisson_ratio"),
+            ],
+            &format!(
+                "K₁ = {} Pa is {} times the elastic bulk modulus E/(3(1 − 2ν)) = {} Pa; \
+                 both are the solid's bulk modulus and must agree within a factor of 2 (is \
+                 one of them in the wrong unit?)",
+                approx(eos_k1),
+                approx(ratio),
+                approx(bulk)
+            ),
+        ));
+    }
     if let Some(why) = crate::materials::steel_eos::compression_fault(&eos) {
         return Err(c.conflict(&[&key("eos_k1"), &key("eos_k2"), &key("eos_k3")], &why));
     }

@@ -443,6 +443,69 @@ fn lead_hole_must_fit_target_and_projectile() {
     .unwrap();
 }
 
+/// E and ν give the solid's elastic bulk modulus, which the EOS's K₁ must match: a unit slip in
+/// E (211 Pa for 211 GPa), or a Poisson's ratio the EOS does not share, is refused.
+#[test]
+fn elastic_moduli_must_match_the_eos() {
+    let text = smoke_text();
+    let conflict = [
+        "projectile.material.eos_k1",
+        "projectile.material.youngs_modulus",
+    ];
+    refused(
+        &text,
+        &["projectile.material.youngs_modulus=211"],
+        &[&conflict[..], &["E/(3(1 − 2ν)) = 167.5 Pa"]].concat(),
+    );
+    let err = refused(
+        &smoke_with(
+            "preset = \"4340-rc45\"",
+            "preset = \"4340-rc45\"\neos_k1 = 163",
+        ),
+        &[],
+        &conflict,
+    );
+    assert!(matches!(err, SceneError::Conflict { .. }));
+    refused(
+        &text,
+        &["projectile.material.poisson_ratio=0.499"],
+        &[&conflict[..], &["projectile.material.poisson_ratio"]].concat(),
+    );
+    // Within a factor of 2 either way: the preset's K₁ is 0.97 of E/(3(1 − 2ν)).
+    let sets = |k1: &str| vec![format!("projectile.material.eos_k1={k1}")];
+    parse_str(&text, Path::new(ORIGIN), &sets("3.3e11")).unwrap();
+    parse_str(&text, Path::new(ORIGIN), &sets("0.85e11")).unwrap();
+    refused(&text, &["projectile.material.eos_k1=3.4e11"], &conflict);
+    refused(&text, &["projectile.material.eos_k1=0.83e11"], &conflict);
+}
+
+/// A projectile struck faster than its own elastic waves travel (moduli or density in the
+/// wrong unit) is refused: each step would carry its nodes across an element.
+#[test]
+fn projectile_slower_than_its_waves() {
+    // Copper's K₁ follows E, so E = 3 Pa keeps the two consistent and the waves at 2 cm/s.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-copper-190.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    refused(
+        &text,
+        &["projectile.material.youngs_modulus=3"],
+        &["projectile.velocity = 190", "0.0227 m/s"],
+    );
+    refused(
+        &text,
+        &["projectile.material.density=8.96e9"],
+        &["projectile.velocity = 190", "elastic wave speed"],
+    );
+    // Copper's waves travel at 4615 m/s.
+    parse_str(
+        &text,
+        Path::new(ORIGIN),
+        &["projectile.velocity=4600".into()],
+    )
+    .unwrap();
+    refused(&text, &["projectile.velocity=4650"], &["4615 m/s"]);
+}
+
 #[test]
 fn copper_damage_needs_constants() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-copper-190.toml");
