@@ -187,6 +187,7 @@ impl Simulation {
             .as_ref()
             .map_or(0.0, |t| t.radius.max(t.thickness))
             + spec.length
+            + 0.5 * spec.diameter
             + spec.nose_z.abs();
         let mut sim = Simulation {
             scene: scene.clone(),

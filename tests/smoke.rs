@@ -700,6 +700,25 @@ fn instability_is_reported_with_what_where_and_when() {
     assert!(err.contains("inverted"), "{err}");
 }
 
+/// A projectile far wider than it is long (a disc 1 m across and 20 mm thick, struck onto the
+/// wall) runs: the bound beyond which a node counts as escaped takes in its radius, not only
+/// its length (it stopped at step 0 with its rim "escaped" when it did not).
+#[test]
+fn a_disc_is_not_taken_for_an_escape() {
+    let dir = scratch("disc");
+    let out = cpu_run("taylor-copper-190.toml", &dir)
+        .arg("--no-vtk")
+        .args(["--set", "projectile.diameter=1.0"])
+        .args(["--set", "projectile.length=0.02"])
+        .args(["--set", "projectile.element_size=0.005"])
+        .args(["--set", "run.end_time=2e-7"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A step that collapses stops the run naming where: the element or particle whose own stable
 /// step is the least, with its position and state.
 #[test]
