@@ -285,7 +285,7 @@ impl Simulation {
         let gpu_err = |e: String| RunError::Unstable(format!("GPU: {e}"));
         let rb = g.advance().map_err(gpu_err)?;
         let dt = rb.dt;
-        if collapsed(dt) {
+        if collapsed(dt) || dt > 1.0 {
             // The site of the collapse is read from the state: bring it back first.
             g.download(&mut self.particles, &mut self.projectile, Sync::Full)
                 .map_err(gpu_err)?;
@@ -437,7 +437,8 @@ impl Simulation {
 
     /// The next step must be positive, finite and bounded: it collapses when the mesh or the
     /// lattice does, and nothing bounds it when every element has failed and opened
-    /// (`cpu::fem_stress::OPEN_RELATIVE_VOLUME`) and there is no target.
+    /// (`cpu::fem_stress::OPEN_RELATIVE_VOLUME`) and there is no target, or when the
+    /// projectile's waves are absurdly slow (a bar at rest with E = 1e-9 Pa).
     fn check_dt(&self, dt: f32) -> Result<(), RunError> {
         if collapsed(dt) {
             return Err(RunError::Unstable(format!(
@@ -450,9 +451,17 @@ impl Simulation {
             )));
         }
         if dt > 1.0 {
+            let e = &self.projectile.elements;
+            let why = if self.sph.is_none() && e.failed.iter().all(|&f| f != 0) {
+                "every element of the projectile has failed and opened, and there is no target"
+                    .to_string()
+            } else {
+                // Waves that slow: the site says which element, and its state.
+                self.smallest_step_site()
+            };
             return Err(RunError::Unstable(format!(
-                "nothing limits the time step at step {}, t {:.4e} s: every element of the \
-                 projectile has failed and opened, and there is no target",
+                "nothing limits the time step at step {}, t {:.4e} s: it would be {dt:e} s, \
+                 more than 1 s: {why}",
                 self.step, self.time
             )));
         }

@@ -474,9 +474,33 @@ fn nothing_left_to_limit_the_step_stops_the_run() {
     }
     let message = stopped.expect("the run went on");
     assert!(
-        message.contains("nothing limits the time step"),
+        message.contains("nothing limits the time step")
+            && message.contains("every element of the projectile has failed and opened"),
         "{message}"
     );
+}
+
+/// A step over 1 s with the elements whole (a bar at rest whose waves crawl: E = 1e-9 Pa) is
+/// not blamed on failed elements: the message names the element with the least stable step.
+#[test]
+fn an_unbounded_step_of_whole_elements_names_where() {
+    let dir = scratch("slow-waves");
+    let out = cpu_run("taylor-copper-190.toml", &dir)
+        .arg("--no-vtk")
+        .args(["--set", "projectile.velocity=0"])
+        .args(["--set", "projectile.material.youngs_modulus=1e-9"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("nothing limits the time step")
+            && err.contains("more than 1 s: element")
+            && err.contains("has the smallest stable step")
+            && !err.contains("failed and opened"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A piece of the nose still intact but held to the body only by failed elements (a tip
