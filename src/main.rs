@@ -164,7 +164,9 @@ enum Command {
     },
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check {
+        /// Scene file (cases/*.toml)
         case: PathBuf,
+        /// Override a scene value, as in `run` (repeatable)
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },

@@ -81,6 +81,20 @@ impl Vary {
         format!("{}={}", self.key, scene::number_text(v))
     }
 
+    /// Whether the `--set` override `set` writes the key this sweep varies (or a table holding
+    /// it, or a key inside it): the varied value would silently replace it in every run.
+    pub fn clashes_with(&self, set: &str) -> bool {
+        let key = set.split_once('=').map_or(set, |(k, _)| k);
+        let key: Vec<&str> = key.split('.').map(str::trim).collect();
+        let key = key.join(".");
+        let (short, long) = if key.len() <= self.key.len() {
+            (key.as_str(), self.key.as_str())
+        } else {
+            (self.key.as_str(), key.as_str())
+        };
+        long == short || long.starts_with(&format!("{short}."))
+    }
+
     /// A run's directory name: the key's last part and the value, e.g. `velocity-300`.
     pub fn label(&self, v: f64) -> String {
         let last = self.key.rsplit('.').next().unwrap_or(&self.key);
@@ -301,6 +315,7 @@ pub fn completed_run(
     let summary: Summary = serde_json::from_str(&json).ok()?;
     let same_adapter = backend != Backend::Gpu || gpu_adapter == Some(summary.adapter.as_str());
     (summary.status == "completed"
+        && summary.is_plausible()
         && summary.backend == backend.name()
         && same_adapter
         && (same_build(&summary.solver_build)
@@ -330,6 +345,13 @@ pub fn sweep(
     out: &Path,
     progress: impl FnMut(&RunRecord),
 ) -> Result<Vec<RunRecord>, SweepError> {
+    if let Some(clash) = set.iter().find(|s| vary.clashes_with(s)) {
+        return Err(SweepError::Spec(format!(
+            "--set {clash}: sets what --vary {} sweeps, whose values would replace it in every \
+             run; drop one of the two",
+            vary.key
+        )));
+    }
     let base = scene::load(case, set).map_err(SweepError::Scene)?;
     let backend = backend.unwrap_or(base.run.backend);
     check_backend(backend, settings.adapter.as_deref())?;
@@ -474,6 +496,38 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 
+    /// A completed run is taken by `--resume` until a number in its summary is made
+    /// impossible (a bar −10³⁰⁰ m long, damage 2): then it is run again, not reported.
+    #[test]
+    fn a_summary_with_impossible_numbers_is_no_completed_run() {
+        let scene = scene::shipped_case("smoke.toml", &["run.end_time=2e-6"]);
+        let dir = std::env::temp_dir().join(format!("penetrate-tampered-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let opts = RunOptions {
+            out: dir.clone(),
+            quiet: true,
+            vtk: false,
+            backend: Some(Backend::Cpu),
+            adapter: None,
+        };
+        solver::run(&scene, &opts).unwrap();
+        let taken = || completed_run(&dir, &scene, Backend::Cpu, None, false, &[]);
+        let good = taken().expect("the run just made is taken");
+        let path = dir.join("summary.json");
+        let write = |s: &Summary| std::fs::write(&path, serde_json::to_string(s).unwrap()).unwrap();
+        let mut bad = good.clone();
+        bad.final_length_m = -1e300;
+        write(&bad);
+        assert!(taken().is_none(), "a negative length");
+        let mut bad = good.clone();
+        bad.max_damage = 2.0;
+        write(&bad);
+        assert!(taken().is_none(), "damage above 1");
+        write(&good);
+        assert!(taken().is_some(), "the summary written back");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn a_range_includes_both_ends_without_round_off() {
         let v = Vary::parse("projectile.velocity=200:800:100").unwrap();
@@ -512,6 +566,26 @@ mod tests {
             let e = Vary::parse(spec).unwrap_err().to_string();
             assert!(e.contains(says), "{spec}: {e}");
             assert!(e.starts_with(&format!("--vary {spec}")), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_set_of_the_swept_key_is_caught() {
+        let vary = Vary::parse("projectile.velocity=200:300:100").unwrap();
+        for set in [
+            "projectile.velocity=5",
+            " projectile . velocity =5",
+            "projectile={velocity=5}",
+            "projectile.velocity.x=1",
+        ] {
+            assert!(vary.clashes_with(set), "{set}");
+        }
+        for set in [
+            "projectile.velocity_x=5",
+            "projectile.diameter=0.02",
+            "run.cfl=0.3",
+        ] {
+            assert!(!vary.clashes_with(set), "{set}");
         }
     }
 

@@ -547,6 +547,11 @@ fn malformed_sweeps_are_refused() {
             "run.end_time=1e-5",
             "projectile.velocity",
         ),
+        (
+            "projectile.velocity=200:400:100",
+            "projectile.velocity=5",
+            "sets what --vary projectile.velocity sweeps",
+        ),
     ] {
         let o = penetrate(&[
             "sweep",

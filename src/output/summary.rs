@@ -103,6 +103,59 @@ pub struct Summary {
     pub neighbour_list_builds: u64,
 }
 
+impl Summary {
+    /// Whether the numbers could have come from a run: all finite, lengths, mass and times
+    /// positive, damage in [0, 1]. A `summary.json` edited or damaged after the run fails it,
+    /// and `--resume` runs again rather than report its numbers.
+    pub fn is_plausible(&self) -> bool {
+        let e = &self.energy;
+        let all_finite = [
+            self.depth_m,
+            self.projectile_velocity_m_s,
+            self.energy_error,
+            self.momentum_error,
+            e.initial_kinetic,
+            e.kinetic,
+            e.internal_projectile,
+            e.internal_target,
+            e.strain_energy_target,
+            e.plastic_work_projectile,
+            e.contact_dissipated,
+            e.wall_dissipated,
+        ]
+        .iter()
+        .all(|x| x.is_finite());
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        let not_negative = |x: f64| x.is_finite() && x >= 0.0;
+        let damage = |d: f64| (0.0..=1.0).contains(&d);
+        all_finite
+            && [
+                self.final_length_m,
+                self.max_radius_m,
+                self.projectile_mass_kg,
+            ]
+            .into_iter()
+            .all(positive)
+            && [
+                self.time_s,
+                self.wall_s,
+                self.max_plastic_strain,
+                self.max_plastic_strain_shank,
+                self.checkerboard_pa,
+                self.min_dt_s,
+                self.max_slave_penetration_m,
+                self.max_residual_penetration_m,
+                self.max_speed_m_s,
+            ]
+            .into_iter()
+            .all(not_negative)
+            && self.max_dt_s.is_finite()
+            && self.min_dt_s <= self.max_dt_s
+            && damage(self.max_damage)
+            && damage(self.max_damage_shank)
+    }
+}
+
 /// Energy account at the end of the run (J).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct EnergySummary {
