@@ -297,6 +297,9 @@ fn main() -> ExitCode {
             out,
         } => {
             let backends = backends(backend, adapter.as_deref(), "check-stability");
+            if let Err(e) = penetrate::output::create_folder(&out) {
+                return fail(3, &format!("check-stability: {e}"));
+            }
             let result = penetrate::stability::run(
                 &case,
                 &backends,
@@ -319,6 +322,23 @@ fn main() -> ExitCode {
                             penetrate::interrupt::EXIT_CODE,
                             &format!(
                                 "check-stability: interrupted; {} has the scenes run so far",
+                                path.display()
+                            ),
+                        );
+                    }
+                    let failed: Vec<String> = rows
+                        .iter()
+                        .filter(|r| r.verdict() != "pass")
+                        .map(|r| format!("{} on {}", r.case, r.backend))
+                        .collect();
+                    if !failed.is_empty() {
+                        return fail(
+                            1,
+                            &format!(
+                                "check-stability: {} of {} runs did not pass ({}); {} says why",
+                                failed.len(),
+                                rows.len(),
+                                failed.join(", "),
                                 path.display()
                             ),
                         );

@@ -826,6 +826,37 @@ fn stability_suite_runs_and_closes_the_energy() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A suite row that does not pass makes `check-stability` exit 1 and name it, with the table
+/// written: here a Taylor bar as the base, whose `grazing` scene (a narrower target) the
+/// scene check refuses. Before, the table had no folder to go into when no run had made one
+/// (exit 3, a bare "No such file or directory"), and a failing row still exited 0.
+#[test]
+fn a_failing_stability_row_fails_the_command() {
+    let bin = env!("CARGO_BIN_EXE_penetrate");
+    let dir = scratch("stability-refused");
+    let out = std::process::Command::new(bin)
+        .args(["check-stability", "--backend", "cpu", "--quick", "--only"])
+        .arg("grazing")
+        .arg("--case")
+        .arg(case("taylor-4340-208.toml"))
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("1 of 1 runs did not pass (grazing on cpu)"),
+        "{stderr}"
+    );
+    let table = std::fs::read_to_string(dir.join("stability.md")).unwrap();
+    assert!(
+        table.contains("| grazing | cpu |") && table.contains("refused"),
+        "{table}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The smoke scene after 20 steps, its energy guard passed, and its impact energy (J).
 fn smoke_after_20_steps() -> (Simulation, f64) {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
