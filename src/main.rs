@@ -345,7 +345,7 @@ fn main() -> ExitCode {
                     }
                     ExitCode::SUCCESS
                 }
-                Err(e) => fail(2, &format!("check-stability: {e}")),
+                Err(e) => fail(e.exit_code(), &format!("check-stability: {e}")),
             }
         }
         Command::Bench {

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use crate::output::summary::Summary;
 use crate::scene::{self, Backend, Scene};
 use crate::solver::{self, RunError, RunOptions};
+use crate::sweep::SweepError;
 
 /// One scene of the suite: the base scene (or `file`, beside it) with `overrides`.
 #[derive(Clone, Debug)]
@@ -257,8 +258,8 @@ pub fn run(
     out: &Path,
     adapter: Option<&str>,
     mut progress: impl FnMut(&Row),
-) -> Result<Vec<Row>, String> {
-    let base = scene::load(base_path, &[]).map_err(|e| e.to_string())?;
+) -> Result<Vec<Row>, SweepError> {
+    let base = scene::load(base_path, &[]).map_err(SweepError::Scene)?;
     let mut rows = Vec::new();
     let all = cases(&base, quick);
     if let Some(unknown) = only
@@ -266,10 +267,10 @@ pub fn run(
         .find(|n| !all.iter().any(|c| c.name == n.as_str()))
     {
         let names: Vec<&str> = all.iter().map(|c| c.name).collect();
-        return Err(format!(
+        return Err(SweepError::Spec(format!(
             "no scene `{unknown}` in the suite; it has {}",
             names.join(", ")
-        ));
+        )));
     }
     for case in all {
         if !only.is_empty() && !only.iter().any(|n| n == case.name) {
@@ -296,7 +297,7 @@ pub fn run(
                     };
                     match solver::run(&scene, &opts) {
                         Ok(o) => Ok(o.summary),
-                        Err(RunError::Io(m)) => return Err(m),
+                        Err(RunError::Io(m)) => return Err(SweepError::Io(m)),
                         Err(e) => Err(e.to_string()),
                     }
                 }

@@ -831,7 +831,7 @@ fn stability_suite_runs_and_closes_the_energy() {
 /// scene check refuses. Before, the table had no folder to go into when no run had made one
 /// (exit 3, a bare "No such file or directory"), and a failing row still exited 0.
 #[test]
-fn a_failing_stability_row_fails_the_command() {
+fn a_failing_stability_row_fails_the_command_and_output_errors_exit_3() {
     let bin = env!("CARGO_BIN_EXE_penetrate");
     let dir = scratch("stability-refused");
     let out = std::process::Command::new(bin)
@@ -854,6 +854,26 @@ fn a_failing_stability_row_fails_the_command() {
         table.contains("| grazing | cpu |") && table.contains("refused"),
         "{table}"
     );
+    // A run folder that cannot be made is an output error, exit 3 as for `run` (it was 2).
+    std::fs::write(dir.join("v100-cpu"), "a file where the run's folder goes").unwrap();
+    let out = std::process::Command::new(bin)
+        .args([
+            "check-stability",
+            "--backend",
+            "cpu",
+            "--quick",
+            "--only",
+            "v100",
+        ])
+        .arg("--case")
+        .arg(case("stability.toml"))
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("v100-cpu"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
