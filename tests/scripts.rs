@@ -42,14 +42,19 @@ fn gate_accepts(dir: &Path, reported: &str) -> bool {
         .status()
         .unwrap();
     assert!(chmod.success());
-    let status = Command::new("bash")
+    gate_passes(dir)
+}
+
+/// Whether `setup_cargo_recent` succeeds on a PATH of `dir` and the system's directories.
+fn gate_passes(dir: &Path) -> bool {
+    Command::new("bash")
         .arg("-c")
         .arg("source scripts/setup.sh && setup_cargo_recent")
         .current_dir(root())
         .env("PATH", format!("{}:/usr/bin:/bin", dir.display()))
         .status()
-        .expect("bash");
-    status.success()
+        .expect("bash")
+        .success()
 }
 
 #[test]
@@ -75,14 +80,7 @@ fn the_rust_version_gate_keeps_a_recent_cargo_and_replaces_an_older_one() {
     assert!(!gate_accepts(&dir, "1.63.0"), "Debian 12's cargo kept");
     // No cargo at all: the stand-in removed.
     std::fs::remove_file(dir.join("cargo")).unwrap();
-    let status = Command::new("bash")
-        .arg("-c")
-        .arg("source scripts/setup.sh && setup_cargo_recent")
-        .current_dir(root())
-        .env("PATH", format!("{}:/usr/bin:/bin", dir.display()))
-        .status()
-        .unwrap();
-    assert!(!status.success(), "no cargo taken for a recent one");
+    assert!(!gate_passes(&dir), "no cargo taken for a recent one");
     std::fs::remove_dir_all(&dir).ok();
 }
 
