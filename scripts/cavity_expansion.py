@@ -769,7 +769,8 @@ def run_hjc(fc, density, speeds, use_rate, merge_frac, a_end, overrides=None,
 
 def print_table(fc, density, h, rows_by_rate, geometry=SPHERICAL):
     print()
-    print(f"HJC {geometry.name} cavity expansion, f_c = {fc / 1e6:g} MPa, rho0 = {density:g} kg/m^3 "
+    print(f"HJC {geometry.name} cavity expansion, f_c = {fc / 1e6:g} MPa, "
+          f"rho0 = {density:g} kg/m^3 "
           f"(G = {h.shear_modulus / 1e9:.2f} GPa, K_el = {h.p_crush / h.mu_crush / 1e9:.2f} GPa,"
           f" T = {h.t / 1e6:.2f} MPa, mu_plock = {lock_strain(h):.4f})")
     print("sigma_r: mean over a/a0 in [15, 25], compression positive; 'change' = mean[24,25] -"
