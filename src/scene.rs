@@ -1596,7 +1596,13 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         density, youngs_modulus, poisson_ratio, specific_heat, taylor_quinney, t_room, t_melt,
         jc_a, jc_b, jc_n, jc_c, jc_m, eps_rate_ref, eos_k2, eos_k3, eos_gamma);
     let key = |field: &str| format!("projectile.material.{field}");
-    c.positive(&key("density"), k.density, "kg/m³")?;
+    c.require(
+        (500.0..=23_000.0).contains(&k.density),
+        &key("density"),
+        k.density,
+        "must be in [500, 23000] (kg/m³): solid metals lie between lithium's 534 and osmium's \
+         22590",
+    )?;
     c.positive(&key("youngs_modulus"), k.youngs_modulus, "Pa")?;
     c.require(
         k.poisson_ratio > 0.0 && k.poisson_ratio < 0.5,
@@ -1604,7 +1610,13 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         k.poisson_ratio,
         "must be in (0, 0.5)",
     )?;
-    c.positive(&key("specific_heat"), k.specific_heat, "J/(kg K)")?;
+    c.require(
+        (100.0..=4_000.0).contains(&k.specific_heat),
+        &key("specific_heat"),
+        k.specific_heat,
+        "must be in [100, 4000] (J/(kg K)): solid metals lie between about 130 (lead, gold, \
+         tungsten) and 3600 (lithium)",
+    )?;
     c.require(
         (0.0..=1.0).contains(&k.taylor_quinney),
         &key("taylor_quinney"),
@@ -1767,7 +1779,13 @@ fn resolve_target(
     let thickness = c.positive("target.thickness", t.thickness, "m")?;
     let spacing = c.positive("target.spacing", t.spacing, "m")?;
     let fc = c.positive("target.fc", t.fc, "Pa")?;
-    let density = c.positive("target.density", t.density, "kg/m³")?;
+    let density = c.require(
+        (1000.0..=5000.0).contains(&t.density),
+        "target.density",
+        t.density,
+        "must be in [1000, 5000] (kg/m³): concrete lies between lightweight concrete's ≈ 1400 \
+         and heavyweight concrete's ≈ 4000",
+    )?;
     c.require(
         spacing <= projectile.diameter / 2.0,
         "target.spacing",
