@@ -64,6 +64,9 @@ pub struct CorrectionStats {
     pub max_penetration: f32,
     /// Global velocity shift added to every node along z (m/s).
     pub global_shift: f32,
+    /// Axial impulse the hits gave the projectile, −Σ δ m_S n_z (N s; +z resists a flight
+    /// along −z): the local and the global parts of each hit together.
+    pub impulse_z: f64,
 }
 
 /// Apply every hit in order (the caller passes them sorted by slave index).
@@ -120,6 +123,7 @@ pub fn correct(
             + lambda * m_s * (w_a * w_a / m_a + w_b * w_b / m_b)
             + (1.0 - lambda) * m_s * n[1] * n[1] / m_total;
         let delta = closing / denom;
+        stats.impulse_z -= m_s as f64 * delta as f64 * n[1] as f64;
 
         let mut d_ke = -ke(m_s, v_s[0], v_s[1]);
         b.slave_vr[s] += delta * n[0];
@@ -327,6 +331,14 @@ mod tests {
                 "energy account"
             );
             assert!((stats.max_penetration - 1e-4).abs() < 1e-6);
+            // The projectile's axial impulse is the slave's momentum change, reversed; on this
+            // nose segment (n_z < 0) it resists the flight along −z.
+            let slave_dp = s.sm[0] as f64 * (s.svz[0] - before.svz[0]) as f64;
+            assert!(
+                stats.impulse_z > 0.0 && (stats.impulse_z + slave_dp).abs() < 1e-5 * slave_dp.abs(),
+                "λ {lambda}: impulse {} against the slave's {slave_dp}",
+                stats.impulse_z
+            );
         }
     }
 

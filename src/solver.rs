@@ -78,6 +78,8 @@ pub struct Account {
     pub wall_dissipated: f64,
     /// z-impulse exerted on the model by fixed boundaries and the wall (N s).
     pub boundary_impulse: f64,
+    /// z-impulse the contact gave the projectile (N s; +z resists a flight along −z).
+    pub contact_impulse: f64,
     pub plastic_work: f64,
     /// Deepest slave penetration the contact found (before correcting it), m.
     pub max_penetration: f32,
@@ -944,6 +946,7 @@ impl Simulation {
             kinetic: self.kinetic_energy(),
             internal: self.internal_target() + self.internal_projectile(),
             contact_dissipated: self.account.contact_dissipated,
+            contact_impulse: self.account.contact_impulse,
             energy_error: self.energy_error(),
             max_damage: self.max_damage(),
             max_plastic_strain: self.max_plastic_strain(),
@@ -1054,6 +1057,7 @@ impl Simulation {
             checkerboard_pa: self.projectile.elements.max_checkerboard() as f64,
             final_length_m: length,
             max_radius_m: radius,
+            contact_impulse_n_s: a.contact_impulse,
             time_s: self.time,
             steps: self.step,
             particles: self.particles.len(),
@@ -1137,6 +1141,7 @@ fn correct_contact(
     };
     let stats = contact::correct(hits, masters, &mut bodies, lambda, *total_mass);
     account.contact_dissipated += stats.dissipated;
+    account.contact_impulse += stats.impulse_z;
     account.max_penetration = account.max_penetration.max(stats.max_penetration);
 }
 

@@ -157,7 +157,7 @@ fn gpu_runs_are_bit_identical() {
 }
 
 /// A short penetration run ends at the CPU's depth within 0.5 %, writes a summary that names
-/// the GPU and lists each pass with its side.
+/// the GPU and lists each pass with its side, and books the contact's impulse as the CPU does.
 #[test]
 fn gpu_depth_matches_cpu_on_a_short_penetration() {
     let dir = std::env::temp_dir().join(format!("penetrate-test-{}-gpu", std::process::id()));
@@ -187,6 +187,21 @@ fn gpu_depth_matches_cpu_on_a_short_penetration() {
         "energy error gpu {} cpu {}",
         s.energy_error,
         cpu.summary.energy_error
+    );
+    // The contact's axial impulse is the projectile's momentum change here too (the
+    // correction's global shift reaches every node the GPU holds), and the CPU's within 0.5 %.
+    let v0 = smoke(&[]).projectile.velocity;
+    let change = s.projectile_mass_kg * (v0 - s.projectile_velocity_m_s);
+    assert!(
+        change > 0.0 && (s.contact_impulse_n_s - change).abs() < 1e-4 * change,
+        "gpu contact impulse {} N s against the momentum change {change} N s",
+        s.contact_impulse_n_s
+    );
+    let cpu_impulse = cpu.summary.contact_impulse_n_s;
+    assert!(
+        ((s.contact_impulse_n_s - cpu_impulse) / cpu_impulse).abs() < 0.005,
+        "contact impulse gpu {} N s, cpu {cpu_impulse} N s",
+        s.contact_impulse_n_s
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -120,9 +120,10 @@ fn smoke_case_runs_with_finite_fields() {
 /// `history.csv` carries the projectile's plastic work: it never falls (each element's increment
 /// σ_y Δε_p V ≥ 0), and its last row, written after the final sync, is the summary's. At 800 m/s
 /// the smoke scene's nose yields by 0.1 ms. The cells' pressure checkerboard is there too, and
-/// its last row is the summary's.
+/// its last row is the summary's. So is the contact's axial impulse, which is the projectile's
+/// momentum change, and its mean force between rows.
 #[test]
-fn history_carries_the_plastic_work_and_the_checkerboard() {
+fn history_carries_the_plastic_work_the_checkerboard_and_the_contact_load() {
     let set = [
         "projectile.velocity=800".to_string(),
         "run.end_time=1e-4".to_string(),
@@ -159,6 +160,28 @@ fn history_carries_the_plastic_work_and_the_checkerboard() {
     assert_eq!(
         *checkerboard.last().unwrap(),
         json["checkerboard_pa"].as_f64().unwrap()
+    );
+    // The contact is the only axial load on the projectile (its own forces sum to zero along
+    // z), so the impulse it booked is the projectile's momentum change, M (v₀ − v), to
+    // round-off, and the force column integrates back to that impulse.
+    let impulse = column_of("contact_impulse_Ns");
+    let total = json["contact_impulse_n_s"].as_f64().unwrap();
+    assert_eq!(*impulse.last().unwrap(), total);
+    let mass = json["projectile_mass_kg"].as_f64().unwrap();
+    let change = mass * (800.0 - json["projectile_velocity_m_s"].as_f64().unwrap());
+    assert!(change > 1.0, "the projectile slowed: {change} N s");
+    assert!(
+        (total - change).abs() < 1e-4 * change,
+        "contact impulse {total} N s against the momentum change {change} N s"
+    );
+    let (time, force) = (column_of("time_s"), column_of("contact_force_N"));
+    assert_eq!(force[0], 0.0);
+    let integral: f64 = (1..time.len())
+        .map(|k| force[k] * (time[k] - time[k - 1]))
+        .sum();
+    assert!(
+        (integral - total).abs() < 1e-9 * total,
+        "∫F dt {integral} against {total} N s"
     );
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -1179,8 +1202,10 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
         history.ends_with('\n') && history.lines().count() > 5,
         "{history}"
     );
+    let columns = history.lines().next().unwrap().split(',').count();
+    assert_eq!(columns, 17);
     for row in history.lines().skip(1) {
-        assert_eq!(row.split(',').count(), 15, "{row}");
+        assert_eq!(row.split(',').count(), columns, "{row}");
         row.split(',')
             .for_each(|v| assert!(v.parse::<f64>().is_ok(), "{row}"));
     }

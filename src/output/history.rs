@@ -16,6 +16,9 @@ pub struct Row {
     pub kinetic: f64,
     pub internal: f64,
     pub contact_dissipated: f64,
+    /// Axial impulse the contact has given the projectile so far (N s, +z against a flight
+    /// along −z).
+    pub contact_impulse: f64,
     pub energy_error: f64,
     pub max_damage: f64,
     pub max_plastic_strain: f64,
@@ -28,7 +31,7 @@ pub struct Row {
     pub checkerboard: f64,
 }
 
-pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa";
+pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N";
 
 /// Rows gathered before they go to the file together.
 const CHUNK: usize = 8192;
@@ -42,6 +45,8 @@ pub struct History {
     pending: String,
     /// Bytes of whole rows in the file.
     written: u64,
+    /// Time, contact impulse and mean contact force of the last row written.
+    last: Option<(f64, f64, f64)>,
 }
 
 impl History {
@@ -52,15 +57,25 @@ impl History {
             path: path.to_path_buf(),
             pending: format!("{HEADER}\n"),
             written: 0,
+            last: None,
         };
         history.flush()?;
         Ok(history)
     }
 
+    /// Appends `r`, with the mean axial contact force since the previous row: the impulse
+    /// between the two rows over the time between them (0 on the first row; a row at the
+    /// previous row's time repeats its force).
     pub fn write(&mut self, r: &Row) -> io::Result<()> {
+        let force = match self.last {
+            Some((t, impulse, _)) if r.time > t => (r.contact_impulse - impulse) / (r.time - t),
+            Some((_, _, force)) => force,
+            None => 0.0,
+        };
+        self.last = Some((r.time, r.contact_impulse, force));
         let _ = writeln!(
             self.pending,
-            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e}",
+            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e}",
             r.time,
             r.step,
             r.dt,
@@ -75,7 +90,9 @@ impl History {
             r.hits,
             r.damage_area,
             r.plastic_work,
-            r.checkerboard
+            r.checkerboard,
+            r.contact_impulse,
+            force
         );
         if self.pending.len() >= CHUNK {
             self.flush()?;

@@ -70,6 +70,11 @@ pub struct Summary {
     pub checkerboard_pa: f64,
     pub final_length_m: f64,
     pub max_radius_m: f64,
+    /// Axial impulse the contact gave the projectile over the run (N s, +z against a flight
+    /// along −z; `history.csv`'s `contact_impulse_Ns`). 0 in summaries written before it
+    /// existed.
+    #[serde(default)]
+    pub contact_impulse_n_s: f64,
     pub time_s: f64,
     pub steps: u64,
     pub particles: usize,
@@ -114,6 +119,7 @@ impl Summary {
             self.projectile_velocity_m_s,
             self.energy_error,
             self.momentum_error,
+            self.contact_impulse_n_s,
             e.initial_kinetic,
             e.kinetic,
             e.internal_projectile,
