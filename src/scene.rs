@@ -1531,10 +1531,12 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
             let cd = c.positive("projectile.cavity.diameter", cav.diameter, "m")?;
             let cl = c.positive("projectile.cavity.length", cav.length, "m")?;
             let rear = c.positive("projectile.cavity.rear_wall", cav.rear_wall, "m")?;
-            let filler = c.non_negative(
+            let filler = cav.filler_density.unwrap_or(0.0);
+            c.require(
+                (0.0..=23_000.0).contains(&filler),
                 "projectile.cavity.filler_density",
-                cav.filler_density.unwrap_or(0.0),
-                "kg/m³; 0 = empty",
+                filler,
+                "must be in [0, 23000] (kg/m³; 0 = empty): no solid is denser than osmium's 22590",
             )?;
             let max_d = diameter - 2.0 * element_size;
             c.require(
@@ -1603,7 +1605,13 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         "must be in [500, 23000] (kg/m³): solid metals lie between lithium's 534 and osmium's \
          22590",
     )?;
-    c.positive(&key("youngs_modulus"), k.youngs_modulus, "Pa")?;
+    c.require(
+        k.youngs_modulus > 0.0 && k.youngs_modulus <= 1.2e12,
+        &key("youngs_modulus"),
+        k.youngs_modulus,
+        "must be in (0, 1.2e12] (Pa): no solid is stiffer than diamond (about 1.1e12 Pa; the \
+         stiffest metal, iridium, has 5.3e11)",
+    )?;
     c.require(
         k.poisson_ratio > 0.0 && k.poisson_ratio < 0.5,
         &key("poisson_ratio"),
@@ -1625,10 +1633,13 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
     )?;
     c.positive(&key("t_room"), k.t_room, "K")?;
     c.require(
-        k.t_melt > k.t_room,
+        k.t_melt > k.t_room && k.t_melt <= 4000.0,
         &key("t_melt"),
         k.t_melt,
-        &format!("must be > t_room = {} (K)", num(k.t_room)),
+        &format!(
+            "must be > t_room = {} and ≤ 4000 (K): no metal melts above tungsten's 3695",
+            num(k.t_room)
+        ),
     )?;
     c.positive(&key("jc_a"), k.jc_a, "Pa")?;
     c.non_negative(&key("jc_b"), k.jc_b, "Pa")?;

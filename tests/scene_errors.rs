@@ -501,10 +501,11 @@ fn projectile_slower_than_its_waves() {
     refused(&text, &["projectile.velocity=4650"], &["4615 m/s"]);
 }
 
-/// Densities and a specific heat no metal or concrete has (another unit, another material) are
-/// refused, naming the key and the range; the ends of each range are accepted.
+/// Densities, a specific heat, a stiffness and a melting point no metal or concrete has (another
+/// unit, another material) are refused, naming the key and the range; the ends of each range
+/// are accepted.
 #[test]
-fn densities_and_specific_heat_of_real_materials() {
+fn material_constants_of_real_materials() {
     for (set, needles) in [
         (
             "projectile.material.density=8.96e9",
@@ -523,19 +524,47 @@ fn densities_and_specific_heat_of_real_materials() {
             "target.density=5001",
             ["target.density = 5001", "[1000, 5000]"],
         ),
+        (
+            "projectile.material.youngs_modulus=2.11e14",
+            ["projectile.material.youngs_modulus", "(0, 1.2e12]"],
+        ),
+        (
+            "projectile.material.t_melt=1e30",
+            ["projectile.material.t_melt", "≤ 4000"],
+        ),
     ] {
         refused(&smoke_text(), &[set], &needles);
     }
+    let shell = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/shell-projectile.toml");
+    let shell = std::fs::read_to_string(shell).unwrap();
+    refused(
+        &shell,
+        &["projectile.cavity.filler_density=1580e3"],
+        &["projectile.cavity.filler_density", "[0, 23000]"],
+    );
+    parse_str(
+        &shell,
+        Path::new(ORIGIN),
+        &["projectile.cavity.filler_density=23000".to_string()],
+    )
+    .unwrap();
     for set in [
         "projectile.material.density=500",
         "projectile.material.density=23000",
         "projectile.material.specific_heat=100",
         "projectile.material.specific_heat=4000",
         "target.density=1000",
+        "projectile.material.t_melt=4000",
     ] {
         parse_str(&smoke_text(), Path::new(ORIGIN), &[set.to_string()])
             .unwrap_or_else(|e| panic!("{set}: {e}"));
     }
+    // The stiffest allowed, with the K₁ that goes with it.
+    let stiff = [
+        "projectile.material.youngs_modulus=1.2e12".to_string(),
+        "projectile.material.eos_k1=9e11".to_string(),
+    ];
+    parse_str(&smoke_text(), Path::new(ORIGIN), &stiff).unwrap();
 }
 
 #[test]

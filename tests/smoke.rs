@@ -1043,16 +1043,15 @@ fn an_output_folder_that_cannot_be_made_is_named() {
     let _ = std::fs::remove_file(&file);
 }
 
-/// A scene that cannot take its first step (a projectile with E = 1e30 Pa and its K₁ to match:
-/// its elements' stable step is 4e-17 s, below the 1e-13 s taken as a collapse) stops as any unstable run does: exit code 1, and `summary.json` and the history's
+/// A scene that cannot take its first step (a concrete whose shear modulus is overridden to
+/// 1e30 Pa: its particles' stable step is 7e-17 s, below the 1e-13 s taken as a collapse) stops as any unstable run does: exit code 1, and `summary.json` and the history's
 /// row at rest written beside `scene.toml`, the status naming what and where.
 #[test]
 fn a_run_that_cannot_take_its_first_step_keeps_its_outputs() {
     let dir = scratch("first-step");
     let out = cpu_run("smoke.toml", &dir)
         .arg("--no-vtk")
-        .args(["--set", "projectile.material.youngs_modulus=1e30"])
-        .args(["--set", "projectile.material.eos_k1=7.9e29"])
+        .args(["--set", "target.concrete.shear_modulus=1e30"])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
@@ -1065,7 +1064,7 @@ fn a_run_that_cannot_take_its_first_step_keeps_its_outputs() {
         "{status}"
     );
     assert!(
-        status.contains("element") && status.contains("(r "),
+        status.contains("particle") && status.contains("(r "),
         "{status}"
     );
     assert_eq!(summary["steps"].as_u64(), Some(0));
