@@ -1044,8 +1044,9 @@ fn an_output_folder_that_cannot_be_made_is_named() {
 }
 
 /// A scene that cannot take its first step (a concrete whose shear modulus is overridden to
-/// 1e30 Pa: its particles' stable step is 7e-17 s, below the 1e-13 s taken as a collapse) stops as any unstable run does: exit code 1, and `summary.json` and the history's
-/// row at rest written beside `scene.toml`, the status naming what and where.
+/// 1e30 Pa: its particles' stable step is 7e-17 s, below the 1e-13 s taken as a collapse)
+/// stops as any unstable run does: exit code 1, and `summary.json` and the history's row at
+/// rest written beside `scene.toml`, the status naming what and where.
 #[test]
 fn a_run_that_cannot_take_its_first_step_keeps_its_outputs() {
     let dir = scratch("first-step");
