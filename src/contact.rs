@@ -67,12 +67,16 @@ pub struct CorrectionStats {
     /// Axial impulse the hits gave the projectile, −Σ δ m_S n_z (N s; +z resists a flight
     /// along −z): the local and the global parts of each hit together.
     pub impulse_z: f64,
+    /// The part of `impulse_z` from hits on the nose's segments (N s).
+    pub nose_impulse_z: f64,
 }
 
-/// Apply every hit in order (the caller passes them sorted by slave index).
+/// Apply every hit in order (the caller passes them sorted by slave index). `on_nose[k]` says
+/// whether master `k` is on the nose: its hits' impulse is booked in `nose_impulse_z` too.
 pub fn correct(
     hits: &[Hit],
     masters: &[MasterSegment],
+    on_nose: &[bool],
     b: &mut ContactBodies,
     lambda: f32,
     total_mass: f64,
@@ -123,7 +127,11 @@ pub fn correct(
             + lambda * m_s * (w_a * w_a / m_a + w_b * w_b / m_b)
             + (1.0 - lambda) * m_s * n[1] * n[1] / m_total;
         let delta = closing / denom;
-        stats.impulse_z -= m_s as f64 * delta as f64 * n[1] as f64;
+        let impulse = -(m_s as f64) * delta as f64 * n[1] as f64;
+        stats.impulse_z += impulse;
+        if on_nose[hit.master as usize] {
+            stats.nose_impulse_z += impulse;
+        }
 
         let mut d_ke = -ke(m_s, v_s[0], v_s[1]);
         b.slave_vr[s] += delta * n[0];
@@ -284,12 +292,15 @@ mod tests {
             let p0 = s.momentum();
             let e0 = s.kinetic();
             let m = s.total_mass();
+            // The segment counts as the nose for two of the four λ, as the shank for the others.
+            let on_nose = lambda < 0.4;
             let stats = correct(
                 &[Hit {
                     slave: 0,
                     master: 0,
                 }],
                 &[SEG],
+                &[on_nose],
                 &mut s.bodies(),
                 lambda,
                 m,
@@ -339,6 +350,11 @@ mod tests {
                 "λ {lambda}: impulse {} against the slave's {slave_dp}",
                 stats.impulse_z
             );
+            let nose = if on_nose { stats.impulse_z } else { 0.0 };
+            assert_eq!(
+                stats.nose_impulse_z, nose,
+                "λ {lambda}: on the nose: {on_nose}"
+            );
         }
     }
 
@@ -356,6 +372,7 @@ mod tests {
                 master: 0,
             }],
             &[SEG],
+            &[true],
             &mut s.bodies(),
             0.2,
             m,
@@ -385,6 +402,7 @@ mod tests {
                 master: 0,
             }],
             &[SEG],
+            &[true],
             &mut s.bodies(),
             0.0,
             m,
@@ -434,6 +452,7 @@ mod tests {
                 master: 0,
             }],
             &[SEG],
+            &[true],
             &mut s.bodies(),
             1.0,
             m,
@@ -484,6 +503,7 @@ mod tests {
                 master: 0,
             }],
             &[SEG],
+            &[true],
             &mut s.bodies(),
             0.2,
             m,

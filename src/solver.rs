@@ -80,6 +80,8 @@ pub struct Account {
     pub boundary_impulse: f64,
     /// z-impulse the contact gave the projectile (N s; +z resists a flight along −z).
     pub contact_impulse: f64,
+    /// The part of `contact_impulse` given through the nose's master segments (N s).
+    pub nose_impulse: f64,
     pub plastic_work: f64,
     /// Deepest slave penetration the contact found (before correcting it), m.
     pub max_penetration: f32,
@@ -116,6 +118,8 @@ pub struct Simulation {
     gpu_base: Account,
     /// Elements whose centroid started behind the nose (in the shank): a shell's wall.
     shank: Vec<u32>,
+    /// Per master segment: whether it started on the nose (`nose_masters`).
+    on_nose: Vec<bool>,
     /// "cpu" or "gpu", and the adapter's name.
     pub backend: &'static str,
     pub adapter: String,
@@ -164,6 +168,7 @@ impl Simulation {
                 n.iter().map(|&i| pmesh.node_z[i as usize]).sum::<f32>() / 3.0 > shank_from
             })
             .collect();
+        let on_nose = nose_masters(&pmesh, shank_from);
         let r_max = pmesh.node_r.iter().copied().fold(0.0f32, f32::max);
         let k = scene.contact.slave_radius_factor as f32;
         let slaves = (0..particles.len() as u32)
@@ -210,6 +215,7 @@ impl Simulation {
             gpu: None,
             gpu_base: Account::default(),
             shank,
+            on_nose,
             backend: "cpu",
             adapter: "none (CPU reference path)".into(),
         };
@@ -340,6 +346,7 @@ impl Simulation {
                         mass: &sm,
                     },
                     &mut self.projectile,
+                    &self.on_nose,
                     self.scene.contact.lambda as f32,
                     dt,
                     &mut self.account,
@@ -579,6 +586,7 @@ impl Simulation {
                     mass: &p.mass,
                 },
                 &mut self.projectile,
+                &self.on_nose,
                 self.scene.contact.lambda as f32,
                 dt,
                 &mut self.account,
@@ -947,6 +955,7 @@ impl Simulation {
             internal: self.internal_target() + self.internal_projectile(),
             contact_dissipated: self.account.contact_dissipated,
             contact_impulse: self.account.contact_impulse,
+            nose_impulse: self.account.nose_impulse,
             energy_error: self.energy_error(),
             max_damage: self.max_damage(),
             max_plastic_strain: self.max_plastic_strain(),
@@ -1058,6 +1067,7 @@ impl Simulation {
             final_length_m: length,
             max_radius_m: radius,
             contact_impulse_n_s: a.contact_impulse,
+            nose_impulse_n_s: a.nose_impulse,
             time_s: self.time,
             steps: self.step,
             particles: self.particles.len(),
@@ -1101,6 +1111,17 @@ struct Slaves<'a> {
     mass: &'a [f32],
 }
 
+/// Per master segment of `mesh`: whether it lies on the nose, its midpoint ahead of the
+/// nose–shank junction at `shank_from` (a flat end's face counts, its midpoint on the
+/// junction; a shell's cavity wall carries no masters).
+fn nose_masters(mesh: &mesh::ProjectileMesh, shank_from: f32) -> Vec<bool> {
+    let z = &mesh.node_z;
+    mesh.masters
+        .iter()
+        .map(|m| 0.5 * (z[m.a as usize] + z[m.b as usize]) <= shank_from)
+        .collect()
+}
+
 /// The smallest step a run goes on with (s): below it the run has collapsed.
 pub const MIN_STEP: f32 = 1.0e-13;
 
@@ -1115,6 +1136,7 @@ fn correct_contact(
     hits: &[Hit],
     slaves: Slaves<'_>,
     projectile: &mut Projectile,
+    on_nose: &[bool],
     lambda: f32,
     dt: f32,
     account: &mut Account,
@@ -1139,9 +1161,10 @@ fn correct_contact(
         node_on_axis: &n.on_axis,
         dt,
     };
-    let stats = contact::correct(hits, masters, &mut bodies, lambda, *total_mass);
+    let stats = contact::correct(hits, masters, on_nose, &mut bodies, lambda, *total_mass);
     account.contact_dissipated += stats.dissipated;
     account.contact_impulse += stats.impulse_z;
+    account.nose_impulse += stats.nose_impulse_z;
     account.max_penetration = account.max_penetration.max(stats.max_penetration);
 }
 
@@ -1513,4 +1536,62 @@ fn body_nodes(conn: &[[u32; 3]], failed: &[u32], volume0: &[f32], n_nodes: usize
     (0..n_nodes)
         .map(|i| held[i] && root(&mut parent, i) == body)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The smoke scene's ogive: the nose's masters run from the tip to the junction and no
+    /// further, and their lengths add up to the tangent ogive's arc s φ_tip (s = crh d, cos
+    /// φ_tip = (s − a)/s) within the chords' shortfall; the shank and the tail face are not
+    /// the nose. A Taylor bar's flat end is.
+    #[test]
+    fn nose_masters_are_the_ogive_arc() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let scene = crate::scene::load(&root.join("cases/smoke.toml"), &[]).unwrap();
+        let spec = scene.model_projectile();
+        let mesh = mesh::projectile::build(&spec).unwrap();
+        let junction = (spec.nose_z + spec.shape.nose_length(spec.diameter)) as f32;
+        let nose = nose_masters(&mesh, junction);
+        let (z, r) = (&mesh.node_z, &mesh.node_r);
+        let mut arc = 0.0f64;
+        for (m, &on) in mesh.masters.iter().zip(&nose) {
+            let (a, b) = (m.a as usize, m.b as usize);
+            if on {
+                assert!(
+                    z[a] <= junction && z[b] <= junction,
+                    "{m:?} behind the junction"
+                );
+                arc += ((r[a] - r[b]) as f64).hypot((z[a] - z[b]) as f64);
+            } else {
+                assert!(
+                    z[a] >= junction && z[b] >= junction,
+                    "{m:?} ahead of the junction"
+                );
+            }
+        }
+        let crate::scene::ProjectileShape::Ogive { crh } = spec.shape else {
+            panic!("the smoke projectile is an ogive")
+        };
+        let d = spec.diameter;
+        let s = crh * d;
+        let expected = s * ((s - 0.5 * d) / s).acos();
+        assert!(
+            arc < expected && arc > 0.99 * expected,
+            "the nose's masters are {arc} m long against the arc's {expected} m"
+        );
+        assert!(nose.iter().any(|&on| !on), "the shank has masters");
+
+        let bar = crate::scene::load(&root.join("cases/taylor-4340-208.toml"), &[]).unwrap();
+        let spec = bar.model_projectile();
+        let mesh = mesh::projectile::build(&spec).unwrap();
+        let nose = nose_masters(&mesh, spec.nose_z as f32);
+        for (m, &on) in mesh.masters.iter().zip(&nose) {
+            let face = mesh.node_z[m.a as usize] == spec.nose_z as f32
+                && mesh.node_z[m.b as usize] == spec.nose_z as f32;
+            assert_eq!(on, face, "{m:?}");
+        }
+        assert!(nose.iter().any(|&on| on), "the bar's end face has masters");
+    }
 }

@@ -157,7 +157,8 @@ fn gpu_runs_are_bit_identical() {
 }
 
 /// A short penetration run ends at the CPU's depth within 0.5 %, writes a summary that names
-/// the GPU and lists each pass with its side, and books the contact's impulse as the CPU does.
+/// the GPU and lists each pass with its side, and books the contact's impulse, in all and on
+/// the nose, as the CPU does.
 #[test]
 fn gpu_depth_matches_cpu_on_a_short_penetration() {
     let dir = std::env::temp_dir().join(format!("penetrate-test-{}-gpu", std::process::id()));
@@ -201,6 +202,13 @@ fn gpu_depth_matches_cpu_on_a_short_penetration() {
     assert!(
         ((s.contact_impulse_n_s - cpu_impulse) / cpu_impulse).abs() < 0.005,
         "contact impulse gpu {} N s, cpu {cpu_impulse} N s",
+        s.contact_impulse_n_s
+    );
+    // So is its nose's share.
+    let (nose, cpu_nose) = (s.nose_impulse_n_s, cpu.summary.nose_impulse_n_s);
+    assert!(
+        nose > 0.0 && nose <= s.contact_impulse_n_s && ((nose - cpu_nose) / cpu_nose).abs() < 0.005,
+        "nose impulse gpu {nose} of {} N s, cpu {cpu_nose} N s",
         s.contact_impulse_n_s
     );
     let _ = std::fs::remove_dir_all(&dir);

@@ -121,7 +121,7 @@ fn smoke_case_runs_with_finite_fields() {
 /// σ_y Δε_p V ≥ 0), and its last row, written after the final sync, is the summary's. At 800 m/s
 /// the smoke scene's nose yields by 0.1 ms. The cells' pressure checkerboard is there too, and
 /// its last row is the summary's. So is the contact's axial impulse, which is the projectile's
-/// momentum change, and its mean force between rows.
+/// momentum change, and its mean force between rows, in all and on the nose.
 #[test]
 fn history_carries_the_plastic_work_the_checkerboard_and_the_contact_load() {
     let set = [
@@ -182,6 +182,41 @@ fn history_carries_the_plastic_work_the_checkerboard_and_the_contact_load() {
     assert!(
         (integral - total).abs() < 1e-9 * total,
         "∫F dt {integral} against {total} N s"
+    );
+    // The nose's share: all of it until the shank reaches the target's face (no hit yet on
+    // a segment behind the junction), never more than all of it after, and its force column
+    // integrates back to it too.
+    let nose = column_of("nose_impulse_Ns");
+    let depth = column_of("depth_m");
+    let nose_length = 0.01 * 7f64.sqrt(); // a √(4 crh − 1), crh = 2
+    let entered = depth
+        .iter()
+        .filter(|&&d| d > 0.0 && d < nose_length)
+        .count();
+    assert!(entered > 2, "rows with only the nose in: {entered}");
+    for k in 0..nose.len() {
+        if depth[k] < nose_length {
+            assert_eq!(nose[k], impulse[k], "row {k}, depth {} m", depth[k]);
+        }
+        assert!(
+            nose[k] >= 0.0 && nose[k] <= impulse[k] * (1.0 + 1e-12),
+            "row {k}: nose {} of {} N s",
+            nose[k],
+            impulse[k]
+        );
+    }
+    assert_eq!(
+        *nose.last().unwrap(),
+        json["nose_impulse_n_s"].as_f64().unwrap()
+    );
+    let nose_force = column_of("nose_force_N");
+    let nose_integral: f64 = (1..time.len())
+        .map(|k| nose_force[k] * (time[k] - time[k - 1]))
+        .sum();
+    let nose_total = *nose.last().unwrap();
+    assert!(
+        (nose_integral - nose_total).abs() < 1e-9 * nose_total,
+        "∫F_nose dt {nose_integral} against {nose_total} N s"
     );
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -1202,8 +1237,11 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
         history.ends_with('\n') && history.lines().count() > 5,
         "{history}"
     );
-    let columns = history.lines().next().unwrap().split(',').count();
-    assert_eq!(columns, 17);
+    assert_eq!(
+        history.lines().next(),
+        Some(penetrate::output::history::HEADER)
+    );
+    let columns = penetrate::output::history::HEADER.split(',').count();
     for row in history.lines().skip(1) {
         assert_eq!(row.split(',').count(), columns, "{row}");
         row.split(',')

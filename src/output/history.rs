@@ -19,6 +19,8 @@ pub struct Row {
     /// Axial impulse the contact has given the projectile so far (N s, +z against a flight
     /// along −z).
     pub contact_impulse: f64,
+    /// The part of `contact_impulse` given through the nose's segments (N s).
+    pub nose_impulse: f64,
     pub energy_error: f64,
     pub max_damage: f64,
     pub max_plastic_strain: f64,
@@ -31,7 +33,7 @@ pub struct Row {
     pub checkerboard: f64,
 }
 
-pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N";
+pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N,nose_impulse_Ns,nose_force_N";
 
 /// Rows gathered before they go to the file together.
 const CHUNK: usize = 8192;
@@ -45,8 +47,8 @@ pub struct History {
     pending: String,
     /// Bytes of whole rows in the file.
     written: u64,
-    /// Time, contact impulse and mean contact force of the last row written.
-    last: Option<(f64, f64, f64)>,
+    /// The last row written and its mean contact and nose forces (N).
+    last: Option<(Row, f64, f64)>,
 }
 
 impl History {
@@ -63,19 +65,25 @@ impl History {
         Ok(history)
     }
 
-    /// Appends `r`, with the mean axial contact force since the previous row: the impulse
-    /// between the two rows over the time between them (0 on the first row; a row at the
-    /// previous row's time repeats its force).
+    /// Appends `r`, with the mean axial contact force since the previous row, on the whole
+    /// projectile and on its nose: the impulse between the two rows over the time between
+    /// them (0 on the first row; a row at the previous row's time repeats its forces).
     pub fn write(&mut self, r: &Row) -> io::Result<()> {
-        let force = match self.last {
-            Some((t, impulse, _)) if r.time > t => (r.contact_impulse - impulse) / (r.time - t),
-            Some((_, _, force)) => force,
-            None => 0.0,
+        let (force, nose_force) = match self.last {
+            Some((p, ..)) if r.time > p.time => {
+                let dt = r.time - p.time;
+                (
+                    (r.contact_impulse - p.contact_impulse) / dt,
+                    (r.nose_impulse - p.nose_impulse) / dt,
+                )
+            }
+            Some((_, force, nose_force)) => (force, nose_force),
+            None => (0.0, 0.0),
         };
-        self.last = Some((r.time, r.contact_impulse, force));
+        self.last = Some((*r, force, nose_force));
         let _ = writeln!(
             self.pending,
-            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e}",
+            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
             r.time,
             r.step,
             r.dt,
@@ -92,7 +100,9 @@ impl History {
             r.plastic_work,
             r.checkerboard,
             r.contact_impulse,
-            force
+            force,
+            r.nose_impulse,
+            nose_force
         );
         if self.pending.len() >= CHUNK {
             self.flush()?;

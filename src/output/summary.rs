@@ -75,6 +75,10 @@ pub struct Summary {
     /// existed.
     #[serde(default)]
     pub contact_impulse_n_s: f64,
+    /// The part of `contact_impulse_n_s` given through the nose's segments (N s; the rest
+    /// went through the shank and the tail). 0 in summaries written before it existed.
+    #[serde(default)]
+    pub nose_impulse_n_s: f64,
     pub time_s: f64,
     pub steps: u64,
     pub particles: usize,
@@ -120,6 +124,7 @@ impl Summary {
             self.energy_error,
             self.momentum_error,
             self.contact_impulse_n_s,
+            self.nose_impulse_n_s,
             e.initial_kinetic,
             e.kinetic,
             e.internal_projectile,
