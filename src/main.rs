@@ -200,18 +200,22 @@ fn main() -> ExitCode {
             };
             let backend = backend.map(Backend::from);
             let out = out.unwrap_or_else(|| sweep::default_out(&case, &vary));
-            let total = vary.values.len();
+            let settings = sweep::RunSettings {
+                adapter,
+                vtk: !no_vtk,
+            };
+            let planned = match sweep::plan_sweep(&case, &vary, &set, backend, &settings, &out) {
+                Ok(p) => p,
+                Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
+            };
+            let total = planned.len();
             eprintln!(
                 "penetrate sweep: {total} runs of {} over {}",
                 case.display(),
                 vary.key
             );
-            let settings = sweep::RunSettings {
-                adapter,
-                vtk: !no_vtk,
-            };
             let mut done = 0;
-            let result = sweep::sweep(&case, &vary, &set, backend, &settings, &out, |r| {
+            let result = sweep::sweep(planned, &vary, &settings, &out, |r| {
                 done += 1;
                 let depth = r.summary().map_or(String::new(), |s| {
                     format!(", depth {:.4} m, {:.1} s", s.depth_m, s.wall_s)

@@ -333,18 +333,18 @@ pub fn default_out(case: &Path, vary: &Vary) -> PathBuf {
     PathBuf::from("runs").join(format!("{stem}-{last}"))
 }
 
-/// `penetrate sweep`: `case` with the overrides `set`, then each value of `vary`, on `backend`
-/// (`None`: the scene's `run.backend`), each run in `out/<label>/`, and `out/sweep.csv`. Every
-/// scene is loaded before the first run.
-pub fn sweep(
+/// `penetrate sweep`'s runs: `case` with the overrides `set`, then each value of `vary`, on
+/// `backend` (`None`: the scene's `run.backend`), each run in `out/<label>/`. Every scene is
+/// loaded here, so that a bad key or value stops the sweep before anything runs or is
+/// announced.
+pub fn plan_sweep(
     case: &Path,
     vary: &Vary,
     set: &[String],
     backend: Option<Backend>,
     settings: &RunSettings,
     out: &Path,
-    progress: impl FnMut(&RunRecord),
-) -> Result<Vec<RunRecord>, SweepError> {
+) -> Result<Vec<Planned>, SweepError> {
     if let Some(clash) = set.iter().find(|s| vary.clashes_with(s)) {
         return Err(SweepError::Spec(format!(
             "--set {clash}: sets what --vary {} sweeps, whose values would replace it in every \
@@ -370,7 +370,17 @@ pub fn sweep(
             }
         })
         .collect();
-    let planned = plan(specs)?;
+    plan(specs)
+}
+
+/// Runs a planned sweep (`plan_sweep`) and writes `out/sweep.csv`.
+pub fn sweep(
+    planned: Vec<Planned>,
+    vary: &Vary,
+    settings: &RunSettings,
+    out: &Path,
+    progress: impl FnMut(&RunRecord),
+) -> Result<Vec<RunRecord>, SweepError> {
     crate::output::create_folder(out).map_err(SweepError::Io)?;
     let planned_runs = planned.len();
     let records = run_set(planned, settings, progress)?;

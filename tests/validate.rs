@@ -497,7 +497,7 @@ fn sweep_writes_one_row_per_value() {
 }
 
 /// Malformed `--vary` specifications and bad overrides are refused with a message naming what
-/// is wrong, exit code 2, and no run.
+/// is wrong, exit code 2, and no run (nor the line announcing the runs).
 #[test]
 fn malformed_sweeps_are_refused() {
     let out = scratch("sweep-bad");
@@ -568,6 +568,11 @@ fn malformed_sweeps_are_refused() {
         assert_eq!(o.status.code(), Some(2), "{vary}: {}", stderr(&o));
         assert!(stderr(&o).contains(says), "{vary}: {}", stderr(&o));
         assert!(!out.join("sweep.csv").exists(), "{vary}: nothing may run");
+        assert!(
+            !stderr(&o).contains("runs of"),
+            "{vary}: announced before refusing: {}",
+            stderr(&o)
+        );
     }
 }
 
