@@ -844,6 +844,39 @@ fn same_bits_on_one_and_two_threads() {
     assert!(run(1) == run(2), "results differ between 1 and 2 threads");
 }
 
+/// Every scene of the stability suite loads: the scene file's bounds on real materials must not
+/// refuse the suite's own scenes (a steel 10 or 100 times stiffer is scaled on the loaded
+/// scene), and the stiff ones' elastic wave speed is √10 and 10 times the base's, so their
+/// step is that much shorter.
+#[test]
+fn every_stability_scene_loads() {
+    use penetrate::stability;
+    let base_path = case("stability.toml");
+    let base = scene::load(&base_path, &[]).unwrap();
+    let cases = stability::cases(&base, true);
+    assert!(cases.iter().filter(|c| c.moduli_factor.is_some()).count() == 2);
+    for c in &cases {
+        let s = stability::scene_of(&base_path, c).unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        let f = c.moduli_factor.unwrap_or(1.0);
+        let speed = |s: &scene::Scene| s.projectile.material.wave_speed();
+        let ratio = speed(&s) / speed(&base);
+        if c.name != "nu0499" {
+            assert!(
+                (ratio / f.sqrt() - 1.0).abs() < 1e-6,
+                "{}: wave speed ×{ratio} for moduli ×{f}",
+                c.name
+            );
+        }
+        let (t, t0) = (s.target.as_ref().unwrap(), base.target.as_ref().unwrap());
+        assert!(
+            (t.concrete.shear_modulus as f64 / t0.concrete.shear_modulus as f64 / f - 1.0).abs()
+                < 1e-6,
+            "{}: concrete G",
+            c.name
+        );
+    }
+}
+
 /// `check-stability` on three of its hardest scenes, CPU path: each completes with the energy
 /// account closed to 1 % of the impact energy, no slave left inside the projectile and no
 /// non-finite value, and the table names them. The 2500 m/s shot; the target no wider than
