@@ -1525,6 +1525,7 @@ fn resolve_projectile(c: &Check, p: &RawProjectile) -> Result<ProjectileSpec, Sc
             approx(wave)
         ),
     )?;
+    check_strength_below_modulus(c, &material)?;
     let cavity = match &p.cavity {
         None => None,
         Some(cav) => {
@@ -1588,6 +1589,26 @@ macro_rules! override_fields {
     };
 }
 
+/// A metal yields, and hardens, at stresses far below its modulus (4340: A/E = 0.004): a
+/// Johnson–Cook A or B at or above E is in another unit. Checked once E itself has passed the
+/// checks that name it (its range, K₁, the wave speed).
+fn check_strength_below_modulus(c: &Check, m: &SteelMaterial) -> Result<(), SceneError> {
+    let e = m.youngs_modulus;
+    for (field, value) in [("jc_a", m.strength.a), ("jc_b", m.strength.b)] {
+        c.require(
+            f64::from(value) < e,
+            &format!("projectile.material.{field}"),
+            f64::from(value),
+            &format!(
+                "must be below projectile.material.youngs_modulus = {} (Pa): a metal yields at \
+                 stresses far below its modulus (4340: A/E = 0.004)",
+                num(e)
+            ),
+        )?;
+    }
+    Ok(())
+}
+
 fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
     let mut k = match c.choice("projectile.material.preset", &m.preset, &PRESETS)? {
         "4340-rc30" => steel_4340_rc30(),
@@ -1649,7 +1670,13 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         k.jc_n,
         "must be in (0, 1]",
     )?;
-    c.non_negative(&key("jc_c"), k.jc_c, "-")?;
+    c.require(
+        (0.0..=1.0).contains(&k.jc_c),
+        &key("jc_c"),
+        k.jc_c,
+        "must be in [0, 1]: the strain-rate sensitivity of metals is about 0.001 to 0.1 (1 \
+         would raise the flow stress twelvefold at 10⁵/s)",
+    )?;
     c.positive(&key("jc_m"), k.jc_m, "-")?;
     c.positive(&key("eps_rate_ref"), k.eps_rate_ref, "1/s")?;
     // Copper's K₁ is the elastic bulk modulus of the final E and ν.
@@ -1945,7 +1972,16 @@ fn resolve_hjc(c: &Check, fc: f64, density: f64, raw: Option<&RawHjc>) -> Result
     c.positive(&key("n"), f(h.n), "-")?;
     c.non_negative(&key("c"), f(h.c), "-")?;
     c.positive(&key("s_max"), f(h.s_max), "-, normalised by f_c")?;
-    c.positive(&key("t"), f(h.t), "Pa, tensile strength")?;
+    c.require(
+        h.t > 0.0 && h.t < h.fc,
+        &key("t"),
+        f(h.t),
+        &format!(
+            "must be in (0, target.fc = {}) (Pa): concrete's tensile strength is about a tenth \
+             of its compressive strength",
+            num(h.fc)
+        ),
+    )?;
     c.positive(&key("eps_rate_ref"), f(h.eps_rate_ref), "1/s")?;
     c.positive(&key("ef_min"), f(h.ef_min), "-")?;
     c.non_negative(&key("d1"), f(h.d1), "-")?;

@@ -501,9 +501,9 @@ fn projectile_slower_than_its_waves() {
     refused(&text, &["projectile.velocity=4650"], &["4615 m/s"]);
 }
 
-/// Densities, a specific heat, a stiffness and a melting point no metal or concrete has (another
-/// unit, another material) are refused, naming the key and the range; the ends of each range
-/// are accepted.
+/// Densities, a specific heat, a stiffness, a melting point, strengths and a rate sensitivity no
+/// metal or concrete has (another unit, another material) are refused, naming the key and the
+/// range; the ends of each range are accepted.
 #[test]
 fn material_constants_of_real_materials() {
     for (set, needles) in [
@@ -532,6 +532,23 @@ fn material_constants_of_real_materials() {
             "projectile.material.t_melt=1e30",
             ["projectile.material.t_melt", "≤ 4000"],
         ),
+        // Strengths in another unit (GPa read as MPa, MPa as Pa).
+        (
+            "projectile.material.jc_a=1.1e12",
+            ["projectile.material.jc_a", "youngs_modulus = 2.11e11"],
+        ),
+        (
+            "projectile.material.jc_b=510e9",
+            ["projectile.material.jc_b", "youngs_modulus = 2.11e11"],
+        ),
+        (
+            "projectile.material.jc_c=1.4",
+            ["projectile.material.jc_c", "[0, 1]"],
+        ),
+        (
+            "target.concrete.t=3.7e12",
+            ["target.concrete.t", "target.fc = 3.5e7"],
+        ),
     ] {
         refused(&smoke_text(), &[set], &needles);
     }
@@ -555,6 +572,10 @@ fn material_constants_of_real_materials() {
         "projectile.material.specific_heat=4000",
         "target.density=1000",
         "projectile.material.t_melt=4000",
+        "projectile.material.jc_a=1e11",
+        "projectile.material.jc_b=0",
+        "projectile.material.jc_c=1",
+        "target.concrete.t=3.4e7",
     ] {
         parse_str(&smoke_text(), Path::new(ORIGIN), &[set.to_string()])
             .unwrap_or_else(|e| panic!("{set}: {e}"));
