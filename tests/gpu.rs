@@ -207,9 +207,8 @@ fn gpu_depth_matches_cpu_on_a_short_penetration() {
     // So is its nose's share.
     let (nose, cpu_nose) = (s.nose_impulse_n_s, cpu.summary.nose_impulse_n_s);
     assert!(
-        nose > 0.0 && nose <= s.contact_impulse_n_s && ((nose - cpu_nose) / cpu_nose).abs() < 0.005,
-        "nose impulse gpu {nose} of {} N s, cpu {cpu_nose} N s",
-        s.contact_impulse_n_s
+        nose > 0.0 && ((nose - cpu_nose) / cpu_nose).abs() < 0.005,
+        "nose impulse gpu {nose} N s, cpu {cpu_nose} N s"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
