@@ -189,7 +189,7 @@ fn history_carries_the_plastic_work_the_checkerboard_and_the_contact_load() {
     // either way), and its force column integrates back to it too.
     let nose = column_of("nose_impulse_Ns");
     let depth = column_of("depth_m");
-    let nose_length = 0.01 * 7f64.sqrt(); // a √(4 crh − 1), crh = 2
+    let nose_length = scene::ogive_nose_length(0.02, 2.0);
     let entered = depth
         .iter()
         .filter(|&&d| d > 0.0 && d < nose_length)
