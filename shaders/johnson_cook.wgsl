@@ -41,15 +41,30 @@ fn jc_thermal_factor(u: FemUniform, temperature: f32) -> f32 {
     return 1.0 - pow(max(jc_homologous_temperature(u, temperature), JC_POW_BASE_FLOOR), u.jc_m);
 }
 
-// σ_y = (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m) (Pa), ε_p < 0 read as 0.
+// zerilli_armstrong.rs activation: exp(−C₃T + C₄T ln ε̇*), ε̇* = max(ε̇/ε̇₀, 1).
+fn za_activation(u: FemUniform, eps_rate: f32, temperature: f32) -> f32 {
+    let ln_rate = log(max(eps_rate / u.eps_rate_ref, 1.0));
+    return exp(max(temperature, 0.0) * (u.za_c4 * ln_rate - u.za_c3));
+}
+
+// σ_y = (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m) (Pa), ε_p < 0 read as 0; with flow_law 1,
+// Zerilli–Armstrong's σ_y = C₀ + C₂ √ε_p exp(−C₃T + C₄T ln ε̇*) (zerilli_armstrong.rs).
 fn jc_flow_stress(u: FemUniform, eps_p: f32, eps_rate: f32, temperature: f32) -> f32 {
+    if (u.flow_law == 1u) {
+        return u.za_c0 + u.za_c2 * sqrt(max(eps_p, 0.0)) * za_activation(u, eps_rate, temperature);
+    }
     let hardening = u.jc_a + u.jc_b * pow(max(eps_p, JC_POW_BASE_FLOOR), u.jc_n);
     return hardening * jc_rate_factor(u.jc_c, eps_rate, u.eps_rate_ref)
         * jc_thermal_factor(u, temperature);
 }
 
-// H = n B ε_p^(n−1)(1 + C ln ε̇*)(1 − T*^m) (Pa), ε_p floored at JC_HARDENING_EPS_FLOOR.
+// H = n B ε_p^(n−1)(1 + C ln ε̇*)(1 − T*^m) (Pa), ε_p floored at JC_HARDENING_EPS_FLOOR; with
+// flow_law 1, H = C₂ exp(−C₃T + C₄T ln ε̇*)/(2√ε_p), ε_p floored the same.
 fn jc_hardening_modulus(u: FemUniform, eps_p: f32, eps_rate: f32, temperature: f32) -> f32 {
+    if (u.flow_law == 1u) {
+        let root = sqrt(max(eps_p, JC_HARDENING_EPS_FLOOR));
+        return 0.5 * u.za_c2 * za_activation(u, eps_rate, temperature) / root;
+    }
     let slope = u.jc_n * u.jc_b * pow(max(eps_p, JC_HARDENING_EPS_FLOOR), u.jc_n - 1.0);
     return slope * jc_rate_factor(u.jc_c, eps_rate, u.eps_rate_ref)
         * jc_thermal_factor(u, temperature);

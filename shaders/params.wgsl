@@ -60,6 +60,12 @@ struct FemUniform {
     q_quad: f32,
     q_lin: f32,
     return_iterations: u32,
+    // 0: Johnson–Cook (jc_*); 1: Zerilli–Armstrong fcc (za_*).
+    flow_law: u32,
+    za_c0: f32,
+    za_c2: f32,
+    za_c3: f32,
+    za_c4: f32,
 }
 
 // The step's clock on the GPU: `dt` is the step being taken (written by the time-step

@@ -16,10 +16,12 @@
 //!   required there), `element_size`*, `velocity`*, `nose_z` (0.25·target.spacing, or
 //!   wall.z + 1 µm)
 //! - `[projectile.cavity]` (optional) `diameter`*, `length`*, `rear_wall`*, `filler_density` (0)
-//! - `[projectile.material]` `preset`* ("4340-rc30" | "4340-rc45" | "copper-ofhc"), then any
-//!   constant: `density`, `youngs_modulus`, `poisson_ratio`, `specific_heat`, `taylor_quinney`,
-//!   `t_room`, `t_melt`, `jc_a`, `jc_b`, `jc_n`, `jc_c`, `jc_m`, `eps_rate_ref`, `eos_k1`,
-//!   `eos_k2`, `eos_k3`, `eos_gamma`, `damage`, `d1`…`d5`, `spall_stress`, `eps_f_min`
+//! - `[projectile.material]` `preset`* ("4340-rc30" | "4340-rc45" | "copper-ofhc" |
+//!   "copper-ofhc-za"), then any constant: `density`, `youngs_modulus`, `poisson_ratio`,
+//!   `specific_heat`, `taylor_quinney`, `t_room`, `t_melt`, `eps_rate_ref`, `eos_k1`,
+//!   `eos_k2`, `eos_k3`, `eos_gamma`, `damage`, `d1`…`d5`, `spall_stress`, `eps_f_min`; the
+//!   Johnson–Cook presets' `jc_a`, `jc_b`, `jc_n`, `jc_c`, `jc_m`, or the Zerilli–Armstrong
+//!   preset's `za_c0`, `za_c2`, `za_c3`, `za_c4` (the other law's keys are refused)
 //! - `[target]` (penetration scenes) `radius`*, `thickness`*, `spacing`*, `fc`*, `density`*,
 //!   `smoothing_ratio` (1.5), `fix_rear`, `fix_lateral`, `artificial_stress` (false),
 //!   `viscosity_alpha` (1), `viscosity_beta` (2), `viscosity_switch` ("none" | "balsara"),
@@ -42,8 +44,9 @@ use serde::Deserialize;
 use toml::{Table, Value};
 
 use crate::materials::hjc::Hjc;
-use crate::materials::johnson_cook::{JcDamage, JcStrength};
+use crate::materials::johnson_cook::{FlowLaw, JcDamage, JcStrength};
 use crate::materials::steel_eos::PolyEos;
+use crate::materials::zerilli_armstrong::ZaFcc;
 
 /// Which implementation of the step runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1001,6 +1004,10 @@ struct RawSteel {
     jc_c: Option<f64>,
     jc_m: Option<f64>,
     eps_rate_ref: Option<f64>,
+    za_c0: Option<f64>,
+    za_c2: Option<f64>,
+    za_c3: Option<f64>,
+    za_c4: Option<f64>,
     eos_k1: Option<f64>,
     eos_k2: Option<f64>,
     eos_k3: Option<f64>,
@@ -1093,6 +1100,8 @@ struct SteelConstants {
     jc_c: f64,
     jc_m: f64,
     eps_rate_ref: f64,
+    /// `Some`: the flow stress is Zerilli–Armstrong's, and `jc_a`…`jc_m` are unused.
+    za: Option<ZaConstants>,
     /// `None`: the bulk modulus E/(3(1 − 2ν)) of the final E and ν.
     eos_k1: Option<f64>,
     eos_k2: f64,
@@ -1100,6 +1109,15 @@ struct SteelConstants {
     eos_gamma: f64,
     /// `None`: the preset has no damage constants (damage off unless the scene gives them).
     damage: Option<DamageConstants>,
+}
+
+/// Zerilli–Armstrong fcc constants, one field per scene key `za_<field>`.
+#[derive(Clone, Copy)]
+struct ZaConstants {
+    c0: f64,
+    c2: f64,
+    c3: f64,
+    c4: f64,
 }
 
 #[derive(Clone, Copy)]
@@ -1113,7 +1131,7 @@ struct DamageConstants {
     eps_f_min: f64,
 }
 
-const PRESETS: [&str; 3] = ["4340-rc30", "4340-rc45", "copper-ofhc"];
+const PRESETS: [&str; 4] = ["4340-rc30", "4340-rc45", "copper-ofhc", "copper-ofhc-za"];
 
 /// 4340 steel, Rc ≈ 30 temper: the seed paper's constants (physics.md §2.1-2.3; Johnson & Cook
 /// 1983/1985 fits). ν = 0.29 is physics.md's choice (the paper gives none).
@@ -1133,6 +1151,7 @@ fn steel_4340_rc30() -> SteelConstants {
         jc_c: 0.014,
         jc_m: 1.03,
         eps_rate_ref: 1.0,
+        za: None,
         // Paper eq. (14), physics.md §2.2.
         eos_k1: Some(163.0e9),
         eos_k2: 294.0e9,
@@ -1182,11 +1201,29 @@ fn copper_ofhc() -> SteelConstants {
         jc_c: 0.025,
         jc_m: 1.09,
         eps_rate_ref: 1.0,
+        za: None,
         eos_k1: None,
         eos_k2: 0.0,
         eos_k3: 0.0,
         eos_gamma: 2.0,
         damage: None,
+    }
+}
+
+/// OFHC copper with Zerilli & Armstrong's (1987, J. Appl. Phys. 61, 1816) fcc flow stress
+/// σ_y = C₀ + C₂√ε_p exp(−C₃T + C₄T ln ε̇) and their copper constants C₂ = 890 MPa,
+/// C₃ = 0.0028/K, C₄ = 0.000115/K, with the athermal C₀ = 46.5 MPa as later evaluations
+/// tabulate it (Banerjee 2005; some papers quote 65 MPa, a larger grain-size term: README
+/// "Copper" gives both results). Every other constant is `copper-ofhc`'s.
+fn copper_ofhc_za() -> SteelConstants {
+    SteelConstants {
+        za: Some(ZaConstants {
+            c0: 46.5e6,
+            c2: 890.0e6,
+            c3: 0.0028,
+            c4: 0.000115,
+        }),
+        ..copper_ofhc()
     }
 }
 
@@ -1594,7 +1631,11 @@ macro_rules! override_fields {
 /// checks that name it (its range, K₁, the wave speed).
 fn check_strength_below_modulus(c: &Check, m: &SteelMaterial) -> Result<(), SceneError> {
     let e = m.youngs_modulus;
-    for (field, value) in [("jc_a", m.strength.a), ("jc_b", m.strength.b)] {
+    let strengths = match &m.strength.law {
+        FlowLaw::JohnsonCook => [("jc_a", m.strength.a), ("jc_b", m.strength.b)],
+        FlowLaw::ZerilliArmstrongFcc(z) => [("za_c0", z.c0), ("za_c2", z.c2)],
+    };
+    for (field, value) in strengths {
         c.require(
             f64::from(value) < e,
             &format!("projectile.material.{field}"),
@@ -1613,7 +1654,8 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
     let mut k = match c.choice("projectile.material.preset", &m.preset, &PRESETS)? {
         "4340-rc30" => steel_4340_rc30(),
         "4340-rc45" => steel_4340_rc45(),
-        _ => copper_ofhc(),
+        "copper-ofhc" => copper_ofhc(),
+        _ => copper_ofhc_za(),
     };
     override_fields!(k, m, |v| v;
         density, youngs_modulus, poisson_ratio, specific_heat, taylor_quinney, t_room, t_melt,
@@ -1679,6 +1721,7 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
     )?;
     c.positive(&key("jc_m"), k.jc_m, "-")?;
     c.positive(&key("eps_rate_ref"), k.eps_rate_ref, "1/s")?;
+    let law = resolve_flow_law(c, m, k.za, &key)?;
     // Copper's K₁ is the elastic bulk modulus of the final E and ν.
     let bulk = k.youngs_modulus / (3.0 * (1.0 - 2.0 * k.poisson_ratio));
     let eos_k1 = m.eos_k1.or(k.eos_k1).unwrap_or(bulk);
@@ -1737,6 +1780,7 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         specific_heat: k.specific_heat,
         taylor_quinney: k.taylor_quinney,
         strength: JcStrength {
+            law,
             a: k.jc_a as f32,
             b: k.jc_b as f32,
             n: k.jc_n as f32,
@@ -1749,6 +1793,79 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
         eos,
         damage,
     })
+}
+
+/// The flow-stress law: Johnson–Cook's, or, for a preset with Zerilli–Armstrong constants,
+/// those with the scene's `za_*` overrides. A key of the other law is refused, not ignored.
+fn resolve_flow_law(
+    c: &Check,
+    m: &RawSteel,
+    preset: Option<ZaConstants>,
+    key: &dyn Fn(&str) -> String,
+) -> Result<FlowLaw, SceneError> {
+    let jc_given = [
+        ("jc_a", m.jc_a),
+        ("jc_b", m.jc_b),
+        ("jc_n", m.jc_n),
+        ("jc_c", m.jc_c),
+        ("jc_m", m.jc_m),
+    ];
+    let za_given = [
+        ("za_c0", m.za_c0),
+        ("za_c2", m.za_c2),
+        ("za_c3", m.za_c3),
+        ("za_c4", m.za_c4),
+    ];
+    let first = |given: &[(&'static str, Option<f64>)]| {
+        given.iter().find(|(_, v)| v.is_some()).map(|(f, _)| *f)
+    };
+    let Some(mut z) = preset else {
+        if let Some(field) = first(&za_given) {
+            return Err(c.conflict(
+                &[&key(field), &key("preset")],
+                &format!(
+                    "preset \"{}\" takes the Johnson–Cook law (jc_a … jc_m); the \
+                     Zerilli–Armstrong constants are for preset \"copper-ofhc-za\"",
+                    m.preset
+                ),
+            ));
+        }
+        return Ok(FlowLaw::JohnsonCook);
+    };
+    if let Some(field) = first(&jc_given) {
+        return Err(c.conflict(
+            &[&key(field), &key("preset")],
+            &format!(
+                "preset \"{}\" takes the Zerilli–Armstrong law (za_c0 … za_c4); the \
+                 Johnson–Cook constants would be unused",
+                m.preset
+            ),
+        ));
+    }
+    for (dst, given) in [
+        (&mut z.c0, m.za_c0),
+        (&mut z.c2, m.za_c2),
+        (&mut z.c3, m.za_c3),
+        (&mut z.c4, m.za_c4),
+    ] {
+        *dst = given.unwrap_or(*dst);
+    }
+    c.positive(&key("za_c0"), z.c0, "Pa")?;
+    c.non_negative(&key("za_c2"), z.c2, "Pa")?;
+    for (field, value) in [("za_c3", z.c3), ("za_c4", z.c4)] {
+        c.require(
+            (0.0..=0.1).contains(&value),
+            &key(field),
+            value,
+            "must be in [0, 0.1] (1/K): copper's are 0.0028 and 0.000115 per kelvin",
+        )?;
+    }
+    Ok(FlowLaw::ZerilliArmstrongFcc(ZaFcc {
+        c0: z.c0 as f32,
+        c2: z.c2 as f32,
+        c3: z.c3 as f32,
+        c4: z.c4 as f32,
+    }))
 }
 
 fn resolve_damage(
@@ -2117,11 +2234,21 @@ impl Scene {
         let s = &m.strength;
         out.line(&mat("t_room"), num(s.t_room), "K");
         out.line(&mat("t_melt"), num(s.t_melt), "K");
-        out.line(&mat("jc_a"), num(s.a), "Pa");
-        out.line(&mat("jc_b"), num(s.b), "Pa");
-        out.line(&mat("jc_n"), num(s.n), "-");
-        out.line(&mat("jc_c"), num(s.c), "-");
-        out.line(&mat("jc_m"), num(s.m), "-");
+        match &s.law {
+            FlowLaw::JohnsonCook => {
+                out.line(&mat("jc_a"), num(s.a), "Pa");
+                out.line(&mat("jc_b"), num(s.b), "Pa");
+                out.line(&mat("jc_n"), num(s.n), "-");
+                out.line(&mat("jc_c"), num(s.c), "-");
+                out.line(&mat("jc_m"), num(s.m), "-");
+            }
+            FlowLaw::ZerilliArmstrongFcc(z) => {
+                out.line(&mat("za_c0"), num(z.c0), "Pa");
+                out.line(&mat("za_c2"), num(z.c2), "Pa");
+                out.line(&mat("za_c3"), num(z.c3), "1/K");
+                out.line(&mat("za_c4"), num(z.c4), "1/K");
+            }
+        }
         out.line(&mat("eps_rate_ref"), num(s.eps_rate_ref), "1/s");
         out.line(&mat("eos_k1"), num(m.eos.k1), "Pa");
         out.line(&mat("eos_k2"), num(m.eos.k2), "Pa");

@@ -597,16 +597,67 @@ fn copper_damage_needs_constants() {
     assert!(msg.contains("projectile.material.d1"), "{msg}");
     let text = std::fs::read_to_string(&path).unwrap();
     let text = text.replace(
-        "preset = \"copper-ofhc\"",
-        "preset = \"copper-ofhc\"\ndamage = true\nd2 = 4.89",
+        "preset = \"copper-ofhc-za\"",
+        "preset = \"copper-ofhc-za\"\ndamage = true\nd2 = 4.89",
     );
     refused(&text, &[], &["projectile.material.d1", "damage = true"]);
     let text = std::fs::read_to_string(&path).unwrap();
     let text = text.replace(
-        "preset = \"copper-ofhc\"",
-        "preset = \"copper-ofhc\"\nd1 = 0.5",
+        "preset = \"copper-ofhc-za\"",
+        "preset = \"copper-ofhc-za\"\nd1 = 0.5",
     );
     refused(&text, &[], &["projectile.material.d1", "damage = true"]);
+}
+
+/// A constant of the other flow-stress law is refused, naming both keys, rather than ignored;
+/// the Zerilli–Armstrong constants are bounded like the Johnson–Cook ones.
+#[test]
+fn flow_law_keys_are_the_presets() {
+    let copper = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/taylor-copper-190.toml");
+    let copper = std::fs::read_to_string(copper).unwrap();
+    refused(
+        &copper,
+        &["projectile.material.jc_c=0.02"],
+        &[
+            "projectile.material.jc_c",
+            "projectile.material.preset",
+            "Zerilli–Armstrong",
+        ],
+    );
+    refused(
+        &smoke_text(),
+        &["projectile.material.za_c0=4e7"],
+        &[
+            "projectile.material.za_c0",
+            "projectile.material.preset",
+            "Johnson–Cook",
+        ],
+    );
+    refused(
+        &copper,
+        &["projectile.material.za_c4=0.5"],
+        &["projectile.material.za_c4 = 0.5", "[0, 0.1]"],
+    );
+    refused(
+        &copper,
+        &["projectile.material.za_c0=-1"],
+        &["projectile.material.za_c0 = -1"],
+    );
+    refused(
+        &copper,
+        &["projectile.material.za_c2=890e9"],
+        &["projectile.material.za_c2", "youngs_modulus"],
+    );
+    // The Johnson–Cook copper of the taylor.csv header takes its own constants.
+    parse_str(
+        &copper,
+        Path::new(ORIGIN),
+        &[
+            "projectile.material.preset=copper-ofhc".into(),
+            "projectile.material.jc_c=0.02".into(),
+        ],
+    )
+    .unwrap();
 }
 
 #[test]

@@ -548,8 +548,8 @@ fn an_unbounded_step_of_whole_elements_names_where() {
         .args(["--set", "projectile.velocity=0"])
         .args(["--set", "projectile.material.youngs_modulus=1e-9"])
         // Its strength below that modulus, as the scene checks ask.
-        .args(["--set", "projectile.material.jc_a=1e-10"])
-        .args(["--set", "projectile.material.jc_b=0"])
+        .args(["--set", "projectile.material.za_c0=1e-10"])
+        .args(["--set", "projectile.material.za_c2=0"])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);

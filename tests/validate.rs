@@ -89,7 +89,7 @@ fn quick_validation_writes_every_section() {
         .filter(|l| !l.starts_with('#'))
         .count();
     for (csv, rows) in [
-        ("taylor/taylor.csv", 6),
+        ("taylor/taylor.csv", 9),
         ("forrestal/forrestal.csv", shots),
         ("target-size/target-size.csv", 2),
         // Two shots at four resolutions on the one backend, and each struck at five speeds
@@ -208,7 +208,7 @@ fn a_backend_list_runs_the_sections_on_its_first() {
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(runs.len(), 6, "{runs:?}");
+    assert_eq!(runs.len(), 9, "{runs:?}");
     assert!(runs.iter().all(|r| r.ends_with("-cpu")), "{runs:?}");
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -262,7 +262,7 @@ fn convergence_compares_the_backends_run_by_run_and_by_roundoff_ensemble() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// Replaces the first `from` by `to` in `file` of the first (by name) of the six quick Taylor
+/// Replaces the first `from` by `to` in `file` of the first (by name) of the nine quick Taylor
 /// runs under `out`; returns the file's path and its text before.
 fn edit_first_taylor_run(out: &Path, file: &str, from: &str, to: &str) -> (PathBuf, String) {
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(out.join("taylor/runs"))
@@ -270,7 +270,7 @@ fn edit_first_taylor_run(out: &Path, file: &str, from: &str, to: &str) -> (PathB
         .map(|e| e.unwrap().path())
         .collect();
     dirs.sort();
-    assert_eq!(dirs.len(), 6);
+    assert_eq!(dirs.len(), 9);
     let path = dirs[0].join(file);
     let text = std::fs::read_to_string(&path).unwrap();
     let edited = text.replacen(from, to, 1);
@@ -309,16 +309,16 @@ fn resume_takes_matching_completed_runs_only() {
     assert!(first.status.success(), "{}", stderr(&first));
     let csv = out.join("taylor/taylor.csv");
     let rows = csv_rows(&csv);
-    assert_eq!(rows.len(), 6);
+    assert_eq!(rows.len(), 9);
 
     // One run's recorded scene no longer matches what the section asks for.
     let (changed, text) =
         edit_first_taylor_run(&out, "scene.toml", "run.cfl = ", "run.cfl = 0.1 # was ");
 
     let second = penetrate(&[&base[..], &["--resume"]].concat());
-    assert_eq!(resumed(&second), 5, "{}", stderr(&second));
+    assert_eq!(resumed(&second), 8, "{}", stderr(&second));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("5 of them resumed"), "{report}");
+    assert!(report.contains("8 of them resumed"), "{report}");
     // The same runs give the same rows (wall times aside: the rerun has its own).
     let strip_wall = |rows: Vec<String>| -> Vec<String> {
         rows.iter()
@@ -341,7 +341,7 @@ fn resume_takes_matching_completed_runs_only() {
         "\"solver_build\": \"another penetrate ",
     );
     let third = penetrate(&[&base[..], &["--resume"]].concat());
-    assert_eq!(resumed(&third), 5, "{}", stderr(&third));
+    assert_eq!(resumed(&third), 8, "{}", stderr(&third));
     let rerun = std::fs::read_to_string(&summary).unwrap();
     assert!(rerun.contains("\"solver_build\": \"penetrate "), "{rerun}");
 
@@ -355,7 +355,7 @@ fn resume_takes_matching_completed_runs_only() {
     );
     let named = ["--resume", "--resume-build", "0123456789abcdef"];
     let fourth = penetrate(&[&base[..], &named].concat());
-    assert_eq!(resumed(&fourth), 6, "{}", stderr(&fourth));
+    assert_eq!(resumed(&fourth), 9, "{}", stderr(&fourth));
     assert!(std::fs::read_to_string(&summary).unwrap().contains(other));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(
@@ -451,7 +451,7 @@ fn resume_takes_gpu_runs_from_the_same_adapter_only() {
     );
 
     let second = penetrate(&[&base[..], &["--resume"]].concat());
-    assert_eq!(resumed(&second), 5, "{}", stderr(&second));
+    assert_eq!(resumed(&second), 8, "{}", stderr(&second));
     // The rerun wrote its own summary, naming this adapter.
     let rerun = std::fs::read_to_string(&summary).unwrap();
     assert!(!rerun.contains("another machine"), "{rerun}");

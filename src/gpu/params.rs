@@ -3,6 +3,8 @@
 
 use encase::ShaderType;
 
+use crate::materials::johnson_cook::FlowLaw;
+use crate::materials::zerilli_armstrong::ZaFcc;
 use crate::state::{FemParams, SphParams};
 
 /// `KernelParams` of `shaders/common.wgsl`.
@@ -123,12 +125,30 @@ pub struct FemUniform {
     pub q_quad: f32,
     pub q_lin: f32,
     pub return_iterations: u32,
+    /// 0: Johnson–Cook (jc_*); 1: Zerilli–Armstrong fcc (za_*), materials::johnson_cook::FlowLaw.
+    pub flow_law: u32,
+    pub za_c0: f32,
+    pub za_c2: f32,
+    pub za_c3: f32,
+    pub za_c4: f32,
 }
 
 impl FemUniform {
     pub fn new(p: &FemParams, n_elements: usize, n_nodes: usize) -> FemUniform {
         let s = p.strength;
         let d = p.damage;
+        let (flow_law, za) = match s.law {
+            FlowLaw::JohnsonCook => (
+                0,
+                ZaFcc {
+                    c0: 0.0,
+                    c2: 0.0,
+                    c3: 0.0,
+                    c4: 0.0,
+                },
+            ),
+            FlowLaw::ZerilliArmstrongFcc(z) => (1, z),
+        };
         FemUniform {
             n_elements: n_elements as u32,
             n_nodes: n_nodes as u32,
@@ -158,6 +178,11 @@ impl FemUniform {
             q_quad: p.q_quad,
             q_lin: p.q_lin,
             return_iterations: p.return_iterations,
+            flow_law,
+            za_c0: za.c0,
+            za_c2: za.c2,
+            za_c3: za.c3,
+            za_c4: za.c4,
         }
     }
 }

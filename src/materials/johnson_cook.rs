@@ -1,8 +1,22 @@
-//! Johnson–Cook strength (paper eq. 13) and damage (eq. 15-16), physics.md §2.1 and §2.3.
+//! Johnson–Cook strength (paper eq. 13) and damage (eq. 15-16), physics.md §2.1 and §2.3, and
+//! the radial return that either flow-stress law ([`FlowLaw`]) feeds.
 
-/// Johnson–Cook flow-stress constants (physics.md §2.1). Units: Pa, K, 1/s.
+use super::zerilli_armstrong::{self as za, ZaFcc};
+
+/// The flow-stress law of a projectile material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FlowLaw {
+    /// Johnson–Cook, paper eq. (13): the constants a, b, n, c, m of [`JcStrength`].
+    JohnsonCook,
+    /// Zerilli–Armstrong for fcc metals ([`za`]); a, b, n, c, m are unused.
+    ZerilliArmstrongFcc(ZaFcc),
+}
+
+/// Flow-stress constants (physics.md §2.1). Units: Pa, K, 1/s. `law` says which of them the
+/// flow stress reads; ε̇₀ and the temperatures serve either law and the damage.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JcStrength {
+    pub law: FlowLaw,
     pub a: f32,
     pub b: f32,
     pub n: f32,
@@ -69,14 +83,22 @@ fn thermal_factor(s: &JcStrength, temperature: f32) -> f32 {
 
 /// Flow stress, paper eq. (13), physics.md §2.1:
 /// σ_y = (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m), ε̇* = max(ε̇/ε̇₀, 1), ε_p < 0 read as 0. Pa.
+/// Under [`FlowLaw::ZerilliArmstrongFcc`], [`za::flow_stress`] instead.
 pub fn flow_stress(s: &JcStrength, eps_p: f32, eps_rate: f32, temperature: f32) -> f32 {
+    if let FlowLaw::ZerilliArmstrongFcc(z) = &s.law {
+        return za::flow_stress(z, eps_p, eps_rate, s.eps_rate_ref, temperature);
+    }
     let hardening = s.a + s.b * eps_p.max(POW_BASE_FLOOR).powf(s.n);
     hardening * rate_factor(s.c, eps_rate, s.eps_rate_ref) * thermal_factor(s, temperature)
 }
 
 /// Hardening modulus H = dσ_y/dε_p = n B ε_p^(n−1)(1 + C ln ε̇*)(1 − T*^m) (derivative of eq. 13),
-/// with ε_p floored at [`HARDENING_EPS_FLOOR`] so it stays finite for n < 1. Pa.
+/// with ε_p floored at [`HARDENING_EPS_FLOOR`] so it stays finite for n < 1. Pa. Under
+/// [`FlowLaw::ZerilliArmstrongFcc`], [`za::hardening_modulus`] instead.
 pub fn hardening_modulus(s: &JcStrength, eps_p: f32, eps_rate: f32, temperature: f32) -> f32 {
+    if let FlowLaw::ZerilliArmstrongFcc(z) = &s.law {
+        return za::hardening_modulus(z, eps_p, eps_rate, s.eps_rate_ref, temperature);
+    }
     let slope = s.n * s.b * eps_p.max(HARDENING_EPS_FLOOR).powf(s.n - 1.0);
     slope * rate_factor(s.c, eps_rate, s.eps_rate_ref) * thermal_factor(s, temperature)
 }
@@ -200,6 +222,7 @@ mod tests {
     /// The paper's 4340 set (physics.md §2.1).
     fn steel() -> JcStrength {
         JcStrength {
+            law: FlowLaw::JohnsonCook,
             a: 792.0e6,
             b: 510.0e6,
             n: 0.26,

@@ -3,6 +3,7 @@
 pub mod hjc;
 pub mod johnson_cook;
 pub mod steel_eos;
+pub mod zerilli_armstrong;
 
 /// The least slope K₁ + 2K₂x + 3K₃x² of the cubic K₁x + K₂x² + K₃x³ on [0, hi], and where it
 /// is: the slope is a parabola in x, so at an end of the interval or at its vertex.

@@ -1136,7 +1136,7 @@ mod tests {
     }
 
     fn test_steel() -> crate::scene::SteelMaterial {
-        use crate::materials::johnson_cook::{JcDamage, JcStrength};
+        use crate::materials::johnson_cook::{FlowLaw, JcDamage, JcStrength};
         use crate::materials::steel_eos::PolyEos;
         crate::scene::SteelMaterial {
             preset: "test".into(),
@@ -1146,6 +1146,7 @@ mod tests {
             specific_heat: 477.0,
             taylor_quinney: 0.9,
             strength: JcStrength {
+                law: FlowLaw::JohnsonCook,
                 a: 792e6,
                 b: 510e6,
                 n: 0.26,
