@@ -330,15 +330,8 @@ pub fn sound_speed(h: &Hjc, tangent: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::assert_rel;
     use super::*;
-
-    fn assert_rel(got: f32, want: f64, tol: f64) {
-        let err = ((got as f64 - want) / want).abs();
-        assert!(
-            err <= tol,
-            "got {got}, want {want}, relative error {err:e} > {tol:e}"
-        );
-    }
 
     // Reference set: K_el = P_crush/μ_crush = 16e6/0.001 = 16 GPa.
     // Lock: 85e9 x − 171e9 x² + 208e9 x³ = 0.8e9 → x = μ̄ = 9.5948069e-3 (Newton from 0.8/85,

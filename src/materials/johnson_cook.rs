@@ -217,6 +217,7 @@ pub fn spalls(d: &JcDamage, mean_stress: f32) -> bool {
 
 #[cfg(test)]
 mod tests {
+    use super::super::assert_rel;
     use super::*;
 
     /// The paper's 4340 set (physics.md §2.1).
@@ -249,14 +250,6 @@ mod tests {
 
     /// G = E/(2(1 + ν)) = 211 GPa/2.58 = 81.782946 GPa (physics.md §2.1, ν = 0.29).
     const G: f32 = 211.0e9 / 2.58;
-
-    fn assert_rel(got: f32, want: f64, tol: f64) {
-        let err = ((got as f64 - want) / want).abs();
-        assert!(
-            err <= tol,
-            "got {got}, want {want}, relative error {err:e} > {tol:e}"
-        );
-    }
 
     #[test]
     fn homologous_temperature_is_clamped() {

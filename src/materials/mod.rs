@@ -16,3 +16,13 @@ pub fn least_cubic_slope(k1: f64, k2: f64, k3: f64, hi: f64) -> (f64, f64) {
         .unwrap_or(0.0);
     (slope(at), at)
 }
+
+/// The material tests' check of a hand value: |got/want − 1| ≤ tol.
+#[cfg(test)]
+fn assert_rel(got: f32, want: f64, tol: f64) {
+    let err = ((got as f64 - want) / want).abs();
+    assert!(
+        err <= tol,
+        "got {got}, want {want}, relative error {err:e} > {tol:e}"
+    );
+}

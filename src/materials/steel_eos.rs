@@ -58,6 +58,7 @@ pub fn compression_fault(eos: &PolyEos) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::assert_rel;
     use super::*;
 
     /// The paper's 4340 constants (physics.md §2.2).
@@ -68,14 +69,6 @@ mod tests {
             k3: 140.0e9,
             gamma: 1.16,
         }
-    }
-
-    fn assert_rel(got: f32, want: f64, tol: f64) {
-        let err = ((got as f64 - want) / want).abs();
-        assert!(
-            err <= tol,
-            "got {got}, want {want}, relative error {err:e} > {tol:e}"
-        );
     }
 
     /// The paper's steel passes; a K₂ of −1e30 (pressure falling at once) or a K₃ of −1e12

@@ -56,6 +56,7 @@ pub fn hardening_modulus(
 
 #[cfg(test)]
 mod tests {
+    use super::super::assert_rel;
     use super::*;
 
     /// Zerilli & Armstrong's (1987) OFHC copper set.
@@ -66,14 +67,6 @@ mod tests {
             c3: 0.0028,
             c4: 0.000115,
         }
-    }
-
-    fn assert_rel(got: f32, want: f64, tol: f64) {
-        let err = ((got as f64 - want) / want).abs();
-        assert!(
-            err <= tol,
-            "got {got}, want {want}, relative error {err:e} > {tol:e}"
-        );
     }
 
     #[test]
