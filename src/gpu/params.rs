@@ -138,15 +138,7 @@ impl FemUniform {
         let s = p.strength;
         let d = p.damage;
         let (flow_law, za) = match s.law {
-            FlowLaw::JohnsonCook => (
-                0,
-                ZaFcc {
-                    c0: 0.0,
-                    c2: 0.0,
-                    c3: 0.0,
-                    c4: 0.0,
-                },
-            ),
+            FlowLaw::JohnsonCook => (0, ZaFcc::default()),
             FlowLaw::ZerilliArmstrongFcc(z) => (1, z),
         };
         FemUniform {

@@ -10,7 +10,7 @@
 use super::johnson_cook::HARDENING_EPS_FLOOR;
 
 /// Zerilli–Armstrong fcc constants. Units: Pa, 1/K.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ZaFcc {
     /// C₀ = Δσ'_G + k l^(−1/2): the athermal stress, the grain-size term included.
     pub c0: f32,
