@@ -41,10 +41,11 @@ fn jc_thermal_factor(u: FemUniform, temperature: f32) -> f32 {
     return 1.0 - pow(max(jc_homologous_temperature(u, temperature), JC_POW_BASE_FLOOR), u.jc_m);
 }
 
-// zerilli_armstrong.rs activation: exp(−C₃T + C₄T ln ε̇*), ε̇* = max(ε̇/ε̇₀, 1).
+// zerilli_armstrong.rs activation: exp(−C₃T + C₄T ln ε̇*), ε̇* = max(ε̇/ε̇₀, 1), the exponent
+// held at or below 0 (the 0 K value 1; no overflow, no ∞·0).
 fn za_activation(u: FemUniform, eps_rate: f32, temperature: f32) -> f32 {
     let ln_rate = log(max(eps_rate / u.eps_rate_ref, 1.0));
-    return exp(max(temperature, 0.0) * (u.za_c4 * ln_rate - u.za_c3));
+    return exp(min(max(temperature, 0.0) * (u.za_c4 * ln_rate - u.za_c3), 0.0));
 }
 
 // σ_y = (A + B ε_p^n)(1 + C ln ε̇*)(1 − T*^m) (Pa), ε_p < 0 read as 0; with flow_law 1,

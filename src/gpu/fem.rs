@@ -324,6 +324,19 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             },
             ..steel
         };
+        // A rate-only set (C₃ = 0) whose exponent is held at 0 on every case, without hardening.
+        let za_held = FemParams {
+            strength: crate::materials::johnson_cook::JcStrength {
+                law: FlowLaw::ZerilliArmstrongFcc(ZaFcc {
+                    c0: 46.5e6,
+                    c2: 0.0,
+                    c3: 0.0,
+                    c4: 0.1,
+                }),
+                ..steel.strength
+            },
+            ..steel
+        };
         let names = [
             "T*",
             "flow stress",
@@ -342,6 +355,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             ("4340", steel),
             ("floors", floors),
             ("zerilli-armstrong", za),
+            ("zerilli-armstrong held", za_held),
         ] {
             let cases = law_cases();
             let flat: Vec<f32> = cases.iter().flatten().copied().collect();

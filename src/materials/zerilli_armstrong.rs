@@ -24,9 +24,15 @@ pub struct ZaFcc {
 
 /// The thermally activated factor exp(−C₃T + C₄T ln ε̇*), ε̇* = max(ε̇/ε̇₀, 1) with ε̇₀ = 1/s,
 /// the unit Zerilli and Armstrong give ε̇ in (the same floor as Johnson–Cook's rate term). T in K.
+/// The exponent is −T(C₃ − C₄ ln ε̇*), and C₃/C₄ is the log of the rate at which thermal
+/// activation stops mattering (e^24.3 ≈ 3.6e10/s for copper): beyond it the factor is held at
+/// its 0 K value 1, the full athermal hardening, so no rate or constant overflows it (an
+/// infinite factor times C₂ = 0 would be NaN).
 fn activation(z: &ZaFcc, eps_rate: f32, eps_rate_ref: f32, temperature: f32) -> f32 {
     let ln_rate = (eps_rate / eps_rate_ref).max(1.0).ln();
-    (temperature.max(0.0) * (z.c4 * ln_rate - z.c3)).exp()
+    (temperature.max(0.0) * (z.c4 * ln_rate - z.c3))
+        .min(0.0)
+        .exp()
 }
 
 /// Flow stress, Zerilli & Armstrong (1987) eq. (7): σ_y = C₀ + C₂ √ε_p exp(−C₃T + C₄T ln ε̇*),
@@ -104,6 +110,27 @@ mod tests {
             flow_stress(&z, 0.5, 1.0e-3, 1.0, 295.0),
             flow_stress(&z, 0.5, 1.0, 1.0, 295.0)
         );
+    }
+
+    /// Beyond the rate C₃/C₄ sets, the factor stays at 1: a rate-only law (C₃ = 0) is the
+    /// athermal C₀ + C₂√ε_p, finite, and with C₂ = 0 exactly C₀, not NaN.
+    #[test]
+    fn the_activation_never_exceeds_its_zero_kelvin_value() {
+        let z = ZaFcc {
+            c3: 0.0,
+            c4: 0.1,
+            ..copper()
+        };
+        let athermal = z.c0 + z.c2 * 0.5;
+        assert_eq!(flow_stress(&z, 0.25, 1.0e5, 1.0, 295.0), athermal);
+        let no_hardening = ZaFcc { c2: 0.0, ..z };
+        assert_eq!(flow_stress(&no_hardening, 0.25, 1.0e5, 1.0, 295.0), z.c0);
+        assert_eq!(
+            hardening_modulus(&no_hardening, 0.25, 1.0e5, 1.0, 295.0),
+            0.0
+        );
+        // Copper's own constants stay below it up to e^(C₃/C₄) ≈ 3.6e10/s.
+        assert!(flow_stress(&copper(), 0.25, 1.0e10, 1.0, 295.0) < athermal);
     }
 
     /// H is the derivative of σ_y (central difference away from the floor) and finite at 0.
