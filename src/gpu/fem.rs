@@ -311,32 +311,28 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             }),
             ..steel
         };
-        // Zerilli & Armstrong's copper constants on the same states (the law's own branch).
-        let za = FemParams {
+        // Zerilli & Armstrong's copper constants on the same states (the law's own branch), and
+        // a rate-only set (C₃ = 0) whose exponent is held at 0 on every case, without hardening.
+        let with_za = |z: ZaFcc| FemParams {
             strength: crate::materials::johnson_cook::JcStrength {
-                law: FlowLaw::ZerilliArmstrongFcc(ZaFcc {
-                    c0: 46.5e6,
-                    c2: 890.0e6,
-                    c3: 0.0028,
-                    c4: 0.000115,
-                }),
+                law: FlowLaw::ZerilliArmstrongFcc(z),
                 ..steel.strength
             },
             ..steel
         };
-        // A rate-only set (C₃ = 0) whose exponent is held at 0 on every case, without hardening.
-        let za_held = FemParams {
-            strength: crate::materials::johnson_cook::JcStrength {
-                law: FlowLaw::ZerilliArmstrongFcc(ZaFcc {
-                    c0: 46.5e6,
-                    c2: 0.0,
-                    c3: 0.0,
-                    c4: 0.1,
-                }),
-                ..steel.strength
-            },
-            ..steel
+        let copper = ZaFcc {
+            c0: 46.5e6,
+            c2: 890.0e6,
+            c3: 0.0028,
+            c4: 0.000115,
         };
+        let za = with_za(copper);
+        let za_held = with_za(ZaFcc {
+            c2: 0.0,
+            c3: 0.0,
+            c4: 0.1,
+            ..copper
+        });
         let names = [
             "T*",
             "flow stress",
