@@ -1704,6 +1704,9 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
             num(k.t_room)
         ),
     )?;
+    // First, so that a Johnson–Cook key given to a Zerilli–Armstrong preset is named as
+    // belonging to the other law rather than checked against its range.
+    let law = resolve_flow_law(c, m, k.za, &key)?;
     c.positive(&key("jc_a"), k.jc_a, "Pa")?;
     c.non_negative(&key("jc_b"), k.jc_b, "Pa")?;
     c.require(
@@ -1721,7 +1724,6 @@ fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
     )?;
     c.positive(&key("jc_m"), k.jc_m, "-")?;
     c.positive(&key("eps_rate_ref"), k.eps_rate_ref, "1/s")?;
-    let law = resolve_flow_law(c, m, k.za, &key)?;
     // Copper's K₁ is the elastic bulk modulus of the final E and ν.
     let bulk = k.youngs_modulus / (3.0 * (1.0 - 2.0 * k.poisson_ratio));
     let eos_k1 = m.eos_k1.or(k.eos_k1).unwrap_or(bulk);

@@ -624,6 +624,15 @@ fn flow_law_keys_are_the_presets() {
             "Zerilli–Armstrong",
         ],
     );
+    // Even out of Johnson–Cook's range, the key is named as the other law's.
+    refused(
+        &copper,
+        &["projectile.material.jc_c=5"],
+        &[
+            "projectile.material.jc_c",
+            "preset \"copper-ofhc-za\" takes",
+        ],
+    );
     refused(
         &smoke_text(),
         &["projectile.material.za_c0=4e7"],
