@@ -122,6 +122,15 @@ pub struct Estimate {
 }
 
 impl Estimate {
+    /// `steps` as a message says it: `≈ N`, or, where `run.end_time / dt` is beyond what a
+    /// `u64` counts (`steps` saturated), `more than 1.8e19` rather than that bound as a count.
+    pub fn steps_text(&self) -> String {
+        match self.steps {
+            u64::MAX => format!("more than {:.1e}", u64::MAX as f64),
+            n => format!("≈ {n}"),
+        }
+    }
+
     /// The bytes of every frame a run writes.
     pub fn frames_bytes(&self) -> f64 {
         self.frames as f64 * self.frame_bytes as f64
@@ -350,5 +359,17 @@ mod tests {
         assert!(k_el > 1e5 * k1);
         let got = sph_step(&stiff);
         assert!((got / wave(k_el, &stiff) - 1.0).abs() < 1e-5, "{got}");
+    }
+
+    /// The count a message gives: exact where it fits, and a saturated count (an end time
+    /// 10³⁷ steps away) said as a bound, not printed as 18446744073709551615 steps.
+    #[test]
+    fn steps_beyond_a_u64_are_said_as_a_bound() {
+        let m = mesh::projectile::build(&smoke(&[]).model_projectile()).unwrap();
+        let e = estimate(&smoke(&[]), &m);
+        assert_eq!(e.steps_text(), format!("≈ {}", e.steps));
+        let far = estimate(&smoke(&["run.end_time=1e30"]), &m);
+        assert_eq!(far.steps, u64::MAX);
+        assert_eq!(far.steps_text(), "more than 1.8e19");
     }
 }

@@ -588,8 +588,11 @@ fn check_report(s: &Scene) -> Result<String, String> {
                 String::new()
             };
             out += &format!(
-                "# stable step ≈ {:.3e} s (FEM {:.3e}, its smallest element {:.3e} m high{sph}) → ≈ {} steps to end_time{cap}\n",
-                e.dt, e.dt_fem, e.fem_altitude, e.steps
+                "# stable step ≈ {:.3e} s (FEM {:.3e}, its smallest element {:.3e} m high{sph}) → {} steps to end_time{cap}\n",
+                e.dt,
+                e.dt_fem,
+                e.fem_altitude,
+                e.steps_text()
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / estimate::MIB);
             out += &format!(

@@ -1453,8 +1453,8 @@ fn steps_warning(scene: &Scene, e: &crate::estimate::Estimate) -> Option<String>
         "the concrete's particles (target.spacing and its stiffness)".to_string()
     };
     Some(format!(
-        "penetrate: warning: this run needs ≈ {} steps to run.end_time = {} s at check's estimated step of {:.3e} s, set by {by}; run.max_steps = {} would stop it near t ≈ {:.3e} s",
-        e.steps,
+        "penetrate: warning: this run needs {} steps to run.end_time = {} s at check's estimated step of {:.3e} s, set by {by}; run.max_steps = {} would stop it near t ≈ {:.3e} s",
+        e.steps_text(),
         crate::scene::number_text(scene.run.end_time),
         e.dt,
         scene.run.max_steps,

@@ -549,6 +549,16 @@ fn material_constants_of_real_materials() {
             "target.concrete.t=3.7e12",
             ["target.concrete.t", "target.fc = 3.5e7"],
         ),
+        // Pressure curves in another unit: stiffer than any solid by μ = 0.1 (the run would
+        // crawl on steps many times shorter).
+        (
+            "projectile.material.eos_k3=1e30",
+            ["projectile.material.eos_k3", "stiffens"],
+        ),
+        (
+            "target.concrete.k3=1e30",
+            ["target.concrete.k3", "stiffens"],
+        ),
     ] {
         refused(&smoke_text(), &[set], &needles);
     }

@@ -162,7 +162,8 @@ fn dense_pressure_f64(h: &Hjc, mu_bar: f64) -> f64 {
 /// Why the fully dense curve cannot end the crushing line, or `None` when it can: it must rise
 /// (slope K₁ + 2K₂μ̄ + 3K₃μ̄² > 0) from μ̄ = 0 all the way to P_lock, and reach P_lock by
 /// μ̄ = MAX_LOCK_MU_BAR. Otherwise the lock strain does not exist (or is not unique) and the
-/// EOS's tangent, hence the sound speed, is negative or unbounded.
+/// EOS's tangent, hence the sound speed, is negative or unbounded. Nor may it stiffen beyond
+/// any solid's ([`super::stiffening_fault`]).
 pub fn dense_curve_fault(h: &Hjc) -> Option<String> {
     let (k1, k2, k3, p_lock) = (h.k1 as f64, h.k2 as f64, h.k3 as f64, h.p_lock as f64);
     let p = |x: f64| dense_pressure_f64(h, x);
@@ -184,7 +185,7 @@ pub fn dense_curve_fault(h: &Hjc) -> Option<String> {
              reached at μ̄ = {root:.4e})"
         ));
     }
-    None
+    super::stiffening_fault("the fully dense curve K1 μ̄ + K2 μ̄² + K3 μ̄³", k1, k2, k3)
 }
 
 /// The stiffest tangent [`pressure`] gives up to the start of full compaction: the elastic K_el =
@@ -366,8 +367,8 @@ mod tests {
         );
     }
 
-    /// Dense curves that dip (K₁ 0.5 Pa with the reference K₂, K₃), fall (K₂ −1e30) or never
-    /// reach P_lock (P_lock 1e30 Pa) are named, not run.
+    /// Dense curves that dip (K₁ 0.5 Pa with the reference K₂, K₃), fall (K₂ −1e30), never
+    /// reach P_lock (P_lock 1e30 Pa) or stiffen beyond any solid (K₃ 1e30) are named, not run.
     #[test]
     fn a_dense_curve_that_cannot_end_the_crushing_is_refused() {
         let reference = Hjc::reference_48mpa();
@@ -382,6 +383,10 @@ mod tests {
             },
             Hjc {
                 p_lock: 1.0e30,
+                ..reference
+            },
+            Hjc {
+                k3: 1.0e30,
                 ..reference
             },
         ] {

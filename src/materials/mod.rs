@@ -17,6 +17,37 @@ pub fn least_cubic_slope(k1: f64, k2: f64, k3: f64, hi: f64) -> (f64, f64) {
     (slope(at), at)
 }
 
+/// Compression (μ) up to which [`stiffening_fault`] bounds a cubic pressure curve's slope: beyond
+/// what the impacts this code models reach in their solids (4340 at 2500 m/s on concrete, a few
+/// GPa, μ ≈ 0.02).
+pub const STIFFENING_MU: f64 = 0.1;
+
+/// Most a cubic pressure curve's slope may grow over its initial K₁ by μ = [`STIFFENING_MU`].
+/// Solids stiffen far less: the paper's 4340 by 1.39×, the HJC concrete's dense curve not at
+/// all (its slope falls to 0.67 K₁ by μ̄ = 0.1). The stable step shrinks as 1/√slope, ten times
+/// at the bound; a K₃ typed 10⁴ times too large (258× for 4340) would run the impact on steps
+/// many times shorter, a run that looks hung.
+pub const MAX_STIFFENING: f64 = 100.0;
+
+/// Why the cubic K₁x + K₂x² + K₃x³ (K₁ > 0) stiffens more than any solid: its largest slope on
+/// [0, [`STIFFENING_MU`]] over K₁, beyond [`MAX_STIFFENING`], as a message naming `curve`; or
+/// `None`.
+pub fn stiffening_fault(curve: &str, k1: f64, k2: f64, k3: f64) -> Option<String> {
+    // The largest slope of the cubic is the least of its negative's.
+    let (least, at) = least_cubic_slope(-k1, -k2, -k3, STIFFENING_MU);
+    let ratio = -least / k1;
+    // NaN (K₁ = 0) counts as beyond the bound.
+    let within = ratio <= MAX_STIFFENING;
+    (!within).then(|| {
+        format!(
+            "{curve} stiffens {ratio:.3e} times by μ = {at:.3}: its slope K1 + 2 K2 μ + 3 K3 μ² \
+             is {:.4e} Pa against K1 = {k1:.4e} Pa, and no solid's grows more than \
+             {MAX_STIFFENING} times by μ = {STIFFENING_MU} (is K2 or K3 in the wrong unit?)",
+            -least
+        )
+    })
+}
+
 /// The material tests' check of a hand value: |got/want − 1| ≤ tol.
 #[cfg(test)]
 fn assert_rel(got: f32, want: f64, tol: f64) {
