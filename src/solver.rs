@@ -945,6 +945,7 @@ impl Simulation {
     }
 
     fn history_row(&self) -> Row {
+        let (length, radius) = self.projectile_extent();
         Row {
             time: self.time,
             step: self.step,
@@ -963,6 +964,8 @@ impl Simulation {
             damage_area: self.damage_area(),
             plastic_work: self.account.plastic_work,
             checkerboard: self.projectile.elements.max_checkerboard() as f64,
+            length,
+            radius,
         }
     }
 

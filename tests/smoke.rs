@@ -121,7 +121,8 @@ fn smoke_case_runs_with_finite_fields() {
 /// σ_y Δε_p V ≥ 0), and its last row, written after the final sync, is the summary's. At 800 m/s
 /// the smoke scene's nose yields by 0.1 ms. The cells' pressure checkerboard is there too, and
 /// its last row is the summary's. So is the contact's axial impulse, which is the projectile's
-/// momentum change, and its mean force between rows, in all and on the nose.
+/// momentum change, and its mean force between rows, in all and on the nose, and the body's
+/// extent, the summary's on the last row.
 #[test]
 fn history_carries_the_plastic_work_the_checkerboard_and_the_contact_load() {
     let set = [
@@ -154,6 +155,20 @@ fn history_carries_the_plastic_work_the_checkerboard_and_the_contact_load() {
     assert_eq!(
         last,
         json["energy"]["plastic_work_projectile"].as_f64().unwrap()
+    );
+    // The body's extent: the mesh's at rest on the first row, the summary's on the last.
+    let (length, radius) = (
+        column_of("projectile_length_m"),
+        column_of("projectile_radius_m"),
+    );
+    assert!((length[0] - 0.06).abs() < 1e-7 && (radius[0] - 0.01).abs() < 1e-7);
+    assert_eq!(
+        *length.last().unwrap(),
+        json["final_length_m"].as_f64().unwrap()
+    );
+    assert_eq!(
+        *radius.last().unwrap(),
+        json["max_radius_m"].as_f64().unwrap()
     );
     let checkerboard = column_of("checkerboard_Pa");
     assert!(checkerboard.iter().all(|&c| c.is_finite() && c >= 0.0));

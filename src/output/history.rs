@@ -31,9 +31,13 @@ pub struct Row {
     pub plastic_work: f64,
     /// Largest pressure checkerboard in a crossed-triangle cell (Pa, `Elements::max_checkerboard`).
     pub checkerboard: f64,
+    /// The projectile body's axial extent and largest radius (m, `Simulation::projectile_extent`:
+    /// at the last row `summary.json`'s `final_length_m` and `max_radius_m`).
+    pub length: f64,
+    pub radius: f64,
 }
 
-pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N,nose_impulse_Ns,nose_force_N";
+pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N,nose_impulse_Ns,nose_force_N,projectile_length_m,projectile_radius_m";
 
 /// Rows gathered before they go to the file together.
 const CHUNK: usize = 8192;
@@ -83,7 +87,7 @@ impl History {
         self.last = Some((*r, force, nose_force));
         let _ = writeln!(
             self.pending,
-            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
             r.time,
             r.step,
             r.dt,
@@ -102,7 +106,9 @@ impl History {
             r.contact_impulse,
             force,
             r.nose_impulse,
-            nose_force
+            nose_force,
+            r.length,
+            r.radius
         );
         if self.pending.len() >= CHUNK {
             self.flush()?;
