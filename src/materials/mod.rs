@@ -25,7 +25,7 @@ pub const STIFFENING_MU: f64 = 0.1;
 /// Most a cubic pressure curve's slope may grow over its initial K₁ by μ = [`STIFFENING_MU`].
 /// Solids stiffen far less: the paper's 4340 by 1.39×, the HJC concrete's dense curve not at
 /// all (its slope falls to 0.67 K₁ by μ̄ = 0.1). The stable step shrinks as 1/√slope, ten times
-/// at the bound; a K₃ typed 10⁴ times too large (258× for 4340) would run the impact on steps
+/// at the bound; a K₃ typed 10⁴ times too large (259× for 4340) would run the impact on steps
 /// many times shorter, a run that looks hung.
 pub const MAX_STIFFENING: f64 = 100.0;
 
@@ -36,7 +36,7 @@ pub fn stiffening_fault(curve: &str, k1: f64, k2: f64, k3: f64) -> Option<String
     // The largest slope of the cubic is the least of its negative's.
     let (least, at) = least_cubic_slope(-k1, -k2, -k3, STIFFENING_MU);
     let ratio = -least / k1;
-    // NaN (K₁ = 0) counts as beyond the bound.
+    // NaN or ∞ (K₁ = 0) counts as beyond the bound.
     let within = ratio <= MAX_STIFFENING;
     (!within).then(|| {
         format!(
