@@ -61,10 +61,15 @@ impl Vary {
         }
         // A relative slack so that 0.1:0.3:0.1 reaches 0.3 despite binary round-off.
         let intervals = ((b - a) / step * (1.0 + 1e-9)).floor();
-        if intervals + 1.0 > MAX_RUNS as f64 {
+        let runs = intervals + 1.0;
+        if runs > MAX_RUNS as f64 {
+            // A count past what one reads in digits (1:1e30:1e-30) in exponent form.
+            let shown = match runs < 1e9 {
+                true => format!("{runs}"),
+                false => format!("{runs:.1e}"),
+            };
             return Err(bad(format!(
-                "gives {} runs, more than the {MAX_RUNS} a sweep allows; use a larger step",
-                intervals + 1.0
+                "gives {shown} runs, more than the {MAX_RUNS} a sweep allows; use a larger step"
             )));
         }
         let values = (0..=intervals as usize)
@@ -571,7 +576,8 @@ mod tests {
             ("k=1:2:0", "must be > 0"),
             ("k=1:2:-1", "must be > 0"),
             ("k=3:2:1", "empty range"),
-            ("k=0:1000:1", "more than the 200"),
+            ("k=0:1000:1", "gives 1001 runs, more than the 200"),
+            ("k=1:1e30:1e-30", "gives 1.0e60 runs, more than the 200"),
         ] {
             let e = Vary::parse(spec).unwrap_err().to_string();
             assert!(e.contains(says), "{spec}: {e}");
