@@ -680,15 +680,7 @@ impl Simulation {
     /// The tip is the deepest node of the body ([`Simulation::attached_nodes`]): debris, free
     /// to run ahead of the body, is not the nose.
     pub fn depth(&self) -> f64 {
-        let z_min = self
-            .attached_nodes()
-            .map(|i| self.projectile.nodes.z[i])
-            .fold(f32::MAX, f32::min) as f64;
-        if self.scene.target.is_some() {
-            (-z_min).max(0.0)
-        } else {
-            0.0
-        }
+        self.body_bounds().depth
     }
 
     /// Centre-of-mass speed along the flight direction (−z), m/s.
@@ -699,6 +691,12 @@ impl Simulation {
     /// (length along z, largest radius) of the projectile, over its attached nodes (as
     /// [`Simulation::depth`]).
     pub fn projectile_extent(&self) -> (f64, f64) {
+        let b = self.body_bounds();
+        (b.length, b.radius)
+    }
+
+    /// The depth and extent of the body, from one pass over its nodes (the body is found once).
+    fn body_bounds(&self) -> BodyBounds {
         let n = &self.projectile.nodes;
         let (mut z_min, mut z_max, mut r_max) = (f32::MAX, f32::MIN, 0.0f32);
         for i in self.attached_nodes() {
@@ -706,7 +704,14 @@ impl Simulation {
             z_max = z_max.max(n.z[i]);
             r_max = r_max.max(n.r[i]);
         }
-        ((z_max - z_min) as f64, r_max as f64)
+        BodyBounds {
+            depth: match self.scene.target {
+                Some(_) => (-(z_min as f64)).max(0.0),
+                None => 0.0,
+            },
+            length: (z_max - z_min) as f64,
+            radius: r_max as f64,
+        }
     }
 
     /// The nodes of the projectile's body: the largest set (by reference volume) of elements
@@ -945,12 +950,12 @@ impl Simulation {
     }
 
     fn history_row(&self) -> Row {
-        let (length, radius) = self.projectile_extent();
+        let body = self.body_bounds();
         Row {
             time: self.time,
             step: self.step,
             dt: self.dt as f64,
-            depth: self.depth(),
+            depth: body.depth,
             velocity: self.projectile_velocity(),
             kinetic: self.kinetic_energy(),
             internal: self.internal_target() + self.internal_projectile(),
@@ -964,8 +969,8 @@ impl Simulation {
             damage_area: self.damage_area(),
             plastic_work: self.account.plastic_work,
             checkerboard: self.projectile.elements.max_checkerboard() as f64,
-            length,
-            radius,
+            length: body.length,
+            radius: body.radius,
         }
     }
 
@@ -1051,7 +1056,7 @@ impl Simulation {
     }
 
     pub fn summary(&self, status: &str, stop_reason: &str, wall_s: f64) -> Summary {
-        let (length, radius) = self.projectile_extent();
+        let body = self.body_bounds();
         let a = &self.account;
         Summary {
             scene: self.scene.name.clone(),
@@ -1060,15 +1065,15 @@ impl Simulation {
             backend: self.backend.into(),
             adapter: self.adapter.clone(),
             solver_build: crate::output::summary::build_id().into(),
-            depth_m: self.depth(),
+            depth_m: body.depth,
             projectile_velocity_m_s: self.projectile_velocity(),
             max_damage: self.max_damage(),
             max_damage_shank: self.max_damage_shank(),
             max_plastic_strain: self.max_plastic_strain(),
             max_plastic_strain_shank: self.max_plastic_strain_shank(),
             checkerboard_pa: self.projectile.elements.max_checkerboard() as f64,
-            final_length_m: length,
-            max_radius_m: radius,
+            final_length_m: body.length,
+            max_radius_m: body.radius,
             contact_impulse_n_s: a.contact_impulse,
             nose_impulse_n_s: a.nose_impulse,
             time_s: self.time,
@@ -1123,6 +1128,13 @@ fn nose_masters(mesh: &mesh::ProjectileMesh, shank_from: f32) -> Vec<bool> {
         .iter()
         .map(|m| 0.5 * (z[m.a as usize] + z[m.b as usize]) <= shank_from)
         .collect()
+}
+
+/// The body's depth beyond the target's face and its extent (m, [`Simulation::body_bounds`]).
+struct BodyBounds {
+    depth: f64,
+    length: f64,
+    radius: f64,
 }
 
 /// The smallest step a run goes on with (s): below it the run has collapsed.
