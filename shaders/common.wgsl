@@ -1,18 +1,12 @@
-// Shared helpers of every pass (prepended to each pass's source by gpu::source).
-// Every pass uses @workgroup_size(64): gpu::WORKGROUP.
-
-const WG: u32 = 64u;
-const SIGMA_2D: f32 = 0.4547284088339867; // 10 / (7 pi)
+// Shared helpers of every pass (src/gpu/shader.rs puts them after its prelude in every program).
+// The prelude declares, from their Rust definitions, the uniform blocks (KernelUniform,
+// SphUniform, FemUniform, StepUniform, ScanLevel: src/gpu/params.rs) and the constants the
+// shaders share with the CPU path (WG = gpu::WORKGROUP, the material floors, the status words).
+// Every pass uses @workgroup_size(64): WG.
 
 // The SPH kernel of src/kernel.rs: the 2-D cubic B-spline, support 2h.
-struct KernelParams {
-    h: f32,
-    inv_h: f32,
-    norm: f32,   // SIGMA_2D / h^2
-    dnorm: f32,  // SIGMA_2D / h^3
-}
 
-fn kernel_w(k: KernelParams, dist: f32) -> f32 {
+fn kernel_w(k: KernelUniform, dist: f32) -> f32 {
     let q = dist * k.inv_h;
     if (q < 1.0) {
         return k.norm * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
@@ -23,7 +17,7 @@ fn kernel_w(k: KernelParams, dist: f32) -> f32 {
     return 0.0;
 }
 
-fn kernel_dw(k: KernelParams, dist: f32) -> f32 {
+fn kernel_dw(k: KernelUniform, dist: f32) -> f32 {
     let q = dist * k.inv_h;
     if (q < 1.0) {
         return k.dnorm * (-3.0 * q + 2.25 * q * q);
@@ -35,7 +29,7 @@ fn kernel_dw(k: KernelParams, dist: f32) -> f32 {
 }
 
 // grad_i W(x_i - x_j) for the separation d = x_i - x_j at distance dist.
-fn kernel_grad(k: KernelParams, d: vec2<f32>, dist: f32) -> vec2<f32> {
+fn kernel_grad(k: KernelUniform, d: vec2<f32>, dist: f32) -> vec2<f32> {
     if (dist <= 1.0e-12 * k.h) {
         return vec2<f32>(0.0, 0.0);
     }

@@ -26,9 +26,6 @@
 @group(0) @binding(20) var<storage, read_write> eps_p: array<f32>;
 @group(0) @binding(21) var<storage, read_write> sound: array<f32>;
 
-// concrete.rs MIN_DENSITY_RATIO: the least density continuity may give, a share of the reference;
-// a particle held there fails.
-const MIN_DENSITY_RATIO: f32 = 0.01;
 // target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
 override CONJUGATE: bool;
 

@@ -36,11 +36,6 @@
 // material without one compiles without the damage update.
 override DAMAGE: bool;
 
-// std::f32::consts::PI after rounding to f32.
-const FEM_PI: f32 = 3.141592653589793;
-// cpu::fem_stress::OPEN_RELATIVE_VOLUME (a test in gpu::fem checks the two agree).
-const OPEN_RELATIVE_VOLUME: f32 = 1.02;
-
 // fem_stress::Geometry: shape data at the current position, b_i = z_j − z_m, c_i = r_m − r_j.
 struct Geometry {
     r: vec3<f32>,
@@ -112,9 +107,9 @@ fn stress_power(s: vec4<f32>, d: StrainRate) -> f32 {
 // fem_stress::nodal_forces, physics.md §2 eq. (1)-(2) in the power-consistent form:
 // F_r,k = −π r̄ (σ_r b_k + τ c_k) − 2πA σ_θ/3, F_z,k = −π r̄ (σ_z c_k + τ b_k).
 fn write_nodal_forces(e: u32, g: Geometry, s: vec4<f32>) {
-    let pr = FEM_PI * g.r_mean;
+    let pr = PI * g.r_mean;
     // 2πAσ_θ/3 with 2A = two_area.
-    let hoop = FEM_PI * g.two_area * s.w / 3.0;
+    let hoop = PI * g.two_area * s.w / 3.0;
     for (var k = 0u; k < 3u; k++) {
         force[6u * e + 2u * k] = -pr * (s.x * g.b[k] + s.z * g.c[k]) - hoop;
         force[6u * e + 2u * k + 1u] = -pr * (s.y * g.c[k] + s.z * g.b[k]);
@@ -136,7 +131,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = vec3<u32>(nodes[3u * e], nodes[3u * e + 1u], nodes[3u * e + 2u]);
     let d = strain_rate(g, vec3<f32>(vr[n.x], vr[n.y], vr[n.z]),
         vec3<f32>(vz[n.x], vz[n.y], vz[n.z]));
-    let volume = FEM_PI * g.r_mean * g.two_area;
+    let volume = PI * g.r_mean * g.two_area;
     let rel_volume = volume / volume0[e];
     let rho = u.density / rel_volume;
     let mu = 1.0 / rel_volume - 1.0;

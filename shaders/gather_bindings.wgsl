@@ -1,6 +1,6 @@
 // Bindings 0–6 of every pass that gathers over the neighbour lists (sph_rates, sph_filter,
 // sph_forces): what neighbour_loop.wgsl walks, read-only. The host binds them with
-// GpuGrid::gather_bindings (src/gpu/neighbours.rs); each pass declares its own from 7 on.
+// GpuGrid::walk_bindings (src/gpu/neighbours.rs); each pass declares its own from 7 on.
 // (The list pass, neighbour_list.wgsl, writes nbr and nbr_count and declares its own.)
 
 @group(0) @binding(0) var<uniform> u: SphUniform;

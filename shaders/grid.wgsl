@@ -4,8 +4,6 @@
 // particles sorted[cell_start[row + r_lo] .. cell_start[row + r_hi + 1]] (ascending index
 // inside each cell), exactly as CellGrid::for_each_candidate does on the CPU.
 
-const GRID_REACH: u32 = 2u;
-
 struct GridInfo {
     // Bounds of the particle cloud as order-preserving u32 keys (float_key), built by atomics.
     r_max_key: u32,

@@ -1,13 +1,6 @@
 // Holmquist–Johnson–Cook concrete, physics.md §3.1: the WGSL twin of src/materials/hjc.rs,
 // function for function, same formulas in the same order. The constants come from
-// SphUniform (params.wgsl); μ_plock (materials::hjc::lock_strain) is precomputed there.
-
-// Smallest base handed to pow (pow is undefined for a base <= 0); hjc.rs POW_BASE_FLOOR.
-const HJC_POW_BASE_FLOOR: f32 = 1.0e-30;
-// hjc.rs FAILURE_STRAIN_FLOOR: the damage increment stays finite even with EF_min = 0.
-const HJC_FAILURE_STRAIN_FLOOR: f32 = 1.0e-20;
-// f32::MIN_POSITIVE, the guard on the crushing span.
-const HJC_MIN_POSITIVE: f32 = 1.17549435e-38;
+// SphUniform (src/gpu/params.rs); μ_plock (materials::hjc::lock_strain) is precomputed there.
 
 // materials::hjc::HjcEos.
 struct HjcEos {
@@ -33,7 +26,7 @@ fn hjc_dense_slope(u: SphUniform, mu_bar: f32) -> f32 {
 
 // Loading pressure p_env and unloading modulus K_unload at a largest compression m <= μ_plock.
 fn hjc_crush_envelope(u: SphUniform, m: f32, k_el: f32) -> vec2<f32> {
-    let span = max(u.mu_plock - u.mu_crush, HJC_MIN_POSITIVE);
+    let span = max(u.mu_plock - u.mu_crush, MIN_POSITIVE);
     let frac = clamp((m - u.mu_crush) / span, 0.0, 1.0);
     let crushing = u.p_crush + (u.p_lock - u.p_crush) * frac;
     let p_env = select(crushing, k_el * m, m <= u.mu_crush);
@@ -53,7 +46,7 @@ fn hjc_pressure(u: SphUniform, mu: f32, mu_max: f32, damage: f32) -> HjcEos {
     let new_max = max(mu, mu_max);
 
     let env = hjc_crush_envelope(u, min(new_max, u.mu_plock), k_el);
-    let crushing_slope = (u.p_lock - u.p_crush) / max(u.mu_plock - u.mu_crush, HJC_MIN_POSITIVE);
+    let crushing_slope = (u.p_lock - u.p_crush) / max(u.mu_plock - u.mu_crush, MIN_POSITIVE);
     let p_crushable = env.x - env.y * (new_max - mu);
     let k_crushable = max(env.y, crushing_slope);
 

@@ -1,20 +1,7 @@
 // Johnson–Cook strength (paper eq. 13) and damage (eq. 15-16), physics.md §2.1 and §2.3: the
 // WGSL twin of src/materials/johnson_cook.rs, function for function, same formulas in the same
 // order, with the same floors and caps (every pow/exp/log argument guarded as there). The
-// constants come from FemUniform (params.wgsl).
-
-// johnson_cook.rs POW_BASE_FLOOR: pow is undefined for a base <= 0 (ε_p and T* may be 0).
-const JC_POW_BASE_FLOOR: f32 = 1.0e-30;
-// johnson_cook.rs HARDENING_EPS_FLOOR: keeps nBε_p^(n−1) finite for n < 1.
-const JC_HARDENING_EPS_FLOOR: f32 = 1.0e-4;
-// johnson_cook.rs FAILURE_STRAIN_FLOOR: Δε_p/ε_f stays finite.
-const JC_FAILURE_STRAIN_FLOOR: f32 = 1.0e-6;
-// johnson_cook.rs DAMAGE_EXP_CAP: e^80 is still finite in f32.
-const JC_DAMAGE_EXP_CAP: f32 = 80.0;
-// johnson_cook.rs RETURN_TOLERANCE, relative to σ_trial.
-const JC_RETURN_TOLERANCE: f32 = 1.0e-7;
-// f32::MIN_POSITIVE, the guard on the divisions by 3G and σ_trial.
-const JC_MIN_POSITIVE: f32 = 1.17549435e-38;
+// constants come from FemUniform (src/gpu/params.rs).
 
 // materials::johnson_cook::RadialReturn.
 struct JcReturn {
@@ -90,7 +77,7 @@ fn jc_radial_return(
     }
     let three_g = 3.0 * shear_modulus;
     var lo = 0.0;
-    var hi = sigma_eq_trial / max(three_g, JC_MIN_POSITIVE);
+    var hi = sigma_eq_trial / max(three_g, MIN_POSITIVE);
     var d_eps_p = 0.0;
     let n = max(iterations, 1u);
     for (var k = 0u; k < n; k++) {
@@ -109,7 +96,7 @@ fn jc_radial_return(
         }
     }
     let scale = clamp(
-        (sigma_eq_trial - three_g * d_eps_p) / max(sigma_eq_trial, JC_MIN_POSITIVE),
+        (sigma_eq_trial - three_g * d_eps_p) / max(sigma_eq_trial, MIN_POSITIVE),
         0.0,
         1.0,
     );

@@ -18,8 +18,6 @@
 //   fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32)
 // called with the separation d = x_i − x_j (x_j mirrored when sign = −1).
 
-// Neighbours a list holds per particle (src/gpu/neighbours.rs NBR_MAX).
-const NBR_MAX: u32 = 64u;
 // A list entry's flag for a mirror ghost; the rest of the word is the particle.
 const NBR_MIRROR: u32 = 0x80000000u;
 

@@ -54,9 +54,6 @@ struct GridBuild {
     moved2: atomic<u32>,
 }
 
-// neighbours.rs MAX_CELLS_PER_AXIS.
-const MAX_CELLS_PER_AXIS: u32 = 16384u;
-
 // Each thread folds the particles gid, gid + stride, … (gpu::Kernel::dispatch_fold), then one
 // atomic per bound.
 @compute @workgroup_size(64)

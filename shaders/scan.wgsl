@@ -8,15 +8,6 @@
 // One entry per block of `data`: the block's total.
 @group(0) @binding(2) var<storage, read_write> sums: array<u32>;
 
-struct ScanLevel {
-    // Entries of `data` to scan.
-    len: u32,
-}
-
-// Entries per thread, and per workgroup (WG * SCAN_ITEMS; src/gpu/scan.rs SCAN_BLOCK).
-const SCAN_ITEMS: u32 = 16u;
-const SCAN_BLOCK: u32 = 1024u;
-
 var<workgroup> partial: array<u32, 64>;
 
 // Scan one block of `data` in place; the block's total to sums[block].

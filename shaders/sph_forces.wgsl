@@ -38,8 +38,6 @@ override ART_STRESS: bool;
 // The Balsara switch is on (SphParams::balsara): Π is scaled by the pair's mean visc_switch.
 override BALSARA: bool;
 
-// η² of the viscosity's singularity guard, in units of h².
-const ETA2: f32 = 0.01;
 // Smallest base handed to pow (undefined for a base <= 0); W > 0 inside the support anyway.
 const POW_BASE_FLOOR: f32 = 1.0e-30;
 

@@ -30,11 +30,7 @@ override BALSARA: bool;
 override CONJUGATE: bool;
 
 // 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
-const TWO_PI: f32 = 6.2831855;
-// sph_rates.rs MIN_CORRECTION_DET.
-const MIN_CORRECTION_DET: f32 = 0.25;
-// sph_rates.rs BALSARA_FLOOR.
-const BALSARA_FLOOR: f32 = 1.0e-4;
+const TWO_PI: f32 = 2.0 * PI;
 
 @compute @workgroup_size(64)
 fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {

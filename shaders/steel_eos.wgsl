@@ -1,9 +1,6 @@
 // Polynomial EOS of the steel, paper eq. (14), physics.md §2.2: the WGSL twin of
 // src/materials/steel_eos.rs, function for function. The constants come from FemUniform
-// (params.wgsl).
-
-// steel_eos.rs BULK_TANGENT_FLOOR, a fraction of K₁: the sound speed stays real.
-const EOS_BULK_TANGENT_FLOOR: f32 = 0.1;
+// (src/gpu/params.rs).
 
 // p = K₁μ + K₂μ² + K₃μ³ + ΓE(1 + μ) for μ >= 0, K₁μ + ΓE(1 + μ) for μ < 0 (Pa);
 // E per unit reference volume.

@@ -3,7 +3,7 @@
 //! `W(q) = σ/h² · {1 − 1.5q² + 0.75q³ (q < 1); 0.25(2 − q)³ (q < 2); 0}`, q = |x|/h,
 //! σ = 10/(7π). Support radius 2h.
 
-const SIGMA_2D: f32 = 10.0 / (7.0 * std::f32::consts::PI);
+pub(crate) const SIGMA_2D: f32 = 10.0 / (7.0 * std::f32::consts::PI);
 
 /// Support radius over h.
 pub const SUPPORT: f32 = 2.0;

@@ -19,12 +19,12 @@ pub struct CellGrid {
 }
 
 /// Cells searched on each side of a particle's own cell.
-const REACH: u32 = 2;
+pub(crate) const REACH: u32 = 2;
 
 /// Cells are capped so that a particle thrown far away cannot make the grid huge; such a
 /// particle is clamped into an edge cell (the distance test keeps the result right) and the
 /// solver stops the run when a particle escapes (see `integrate`).
-const MAX_CELLS_PER_AXIS: u32 = 1 << 14;
+pub(crate) const MAX_CELLS_PER_AXIS: u32 = 1 << 14;
 
 impl CellGrid {
     fn index(&self, r: f32, z: f32) -> (u32, u32) {

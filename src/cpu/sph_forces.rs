@@ -42,7 +42,7 @@ use super::sph_rates::hoop_radius;
 use crate::state::{Particles, SphParams};
 
 /// η² of the viscosity's singularity guard, in units of h².
-const ETA2: f32 = 0.01;
+pub(crate) const ETA2: f32 = 0.01;
 
 pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let h = params.h;

@@ -29,7 +29,7 @@ use crate::state::{Particles, SphParams};
 const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
 
 /// det M below which the correction is not applied (near a free surface with few neighbours).
-const MIN_CORRECTION_DET: f32 = 0.25;
+pub(crate) const MIN_CORRECTION_DET: f32 = 0.25;
 
 /// Radius used for 1/r terms: particles are kept ≥ 0.1 h off the axis (physics.md §3).
 #[inline]
@@ -216,7 +216,7 @@ pub fn balsara(div: f32, curl: f32, sound: f32, h: f32) -> f32 {
 }
 
 /// The floor of the Balsara denominator, in units of c/h.
-const BALSARA_FLOOR: f32 = 1.0e-4;
+pub(crate) const BALSARA_FLOOR: f32 = 1.0e-4;
 
 /// L = G M⁻¹ where det M is large enough, else G.
 fn correct(g: [f32; 4], m: [f32; 4]) -> [f32; 4] {

@@ -3,37 +3,11 @@
 //! helpers in shaders/deviator.wgsl; shaders/fem_forces.wgsl); CPU twins `cpu::fem_stress::run`
 //! and `cpu::fem_forces::run`.
 
-use super::integrate::step_source;
 use super::params::FemUniform;
+use super::shader::Program;
 use super::state::{GpuElements, GpuNodes};
-use super::{Gpu, Kernel, Slot};
+use super::{Gpu, Kernel};
 use crate::state::FemParams;
-
-/// The WGSL of the stress pass: the step's shared blocks (FemUniform, Clock, status words), the
-/// deviatoric helpers, the Johnson–Cook law and the steel EOS, then `pass`.
-fn fem_source(pass: &str) -> String {
-    step_source(&[
-        include_str!("../../shaders/deviator.wgsl"),
-        include_str!("../../shaders/johnson_cook.wgsl"),
-        include_str!("../../shaders/steel_eos.wgsl"),
-        pass,
-    ])
-}
-
-/// Bindings of shaders/fem_stress.wgsl: FemUniform, the clock, the status words, node r, z, vr,
-/// vz, the connectivity and V₀, then 14 written: the element state (deviator, p, energy, eps_p,
-/// temperature, damage, failed), force, dt, plastic_work and the plastic_total accumulator.
-const STRESS_SLOTS: &[(Slot, usize)] = &[
-    (Slot::Uniform, 1),
-    (Slot::Read, 1),
-    (Slot::ReadWrite, 1),
-    (Slot::Read, 6),
-    (Slot::ReadWrite, 14),
-];
-
-/// Bindings of shaders/fem_forces.wgsl: FemUniform, the node → element CSR, the element forces,
-/// then fr and fz.
-const FORCES_SLOTS: &[(Slot, usize)] = &[(Slot::Uniform, 1), (Slot::Read, 3), (Slot::ReadWrite, 2)];
 
 /// The projectile's two passes: `fem_stress` advances every element over the clock's Δt and
 /// writes its nodal forces, stable step and plastic work (adding the work to `plastic_total`);
@@ -65,59 +39,48 @@ impl FemPass {
         let uniform = gpu.uniform("fem", &FemUniform::new(material, elements.len, nodes.len));
         let fem_uniform = &uniform;
         let damage = [("DAMAGE", f64::from(u8::from(material.damage.is_some())))];
-        let stress = gpu.kernel_with(
-            "fem_stress",
-            &fem_source(include_str!("../../shaders/fem_stress.wgsl")),
-            "main",
-            STRESS_SLOTS,
-            &damage,
-        )?;
-        let forces = gpu.kernel(
-            "fem_forces",
-            &step_source(&[include_str!("../../shaders/fem_forces.wgsl")]),
-            "main",
-            FORCES_SLOTS,
-        )?;
+        let stress = gpu.kernel(Program::FemStress, "main", &damage)?;
+        let forces = gpu.kernel(Program::FemForces, "main", &[])?;
         let (n, e) = (nodes, elements);
         let stress_bind = stress.bind(
             gpu,
             &[
-                fem_uniform,
-                clock,
-                status,
-                &n.r,
-                &n.z,
-                &n.vr,
-                &n.vz,
-                &e.nodes,
-                &e.volume0,
-                &e.s_rr,
-                &e.s_zz,
-                &e.s_rz,
-                &e.s_tt,
-                &e.p,
-                &e.energy,
-                &e.eps_p,
-                &e.temperature,
-                &e.damage,
-                &e.failed,
-                &e.force,
-                &e.dt,
-                &e.plastic_work,
-                plastic_total,
+                ("u", fem_uniform),
+                ("clock", clock),
+                ("status", status),
+                ("r", &n.r),
+                ("z", &n.z),
+                ("vr", &n.vr),
+                ("vz", &n.vz),
+                ("nodes", &e.nodes),
+                ("volume0", &e.volume0),
+                ("s_rr", &e.s_rr),
+                ("s_zz", &e.s_zz),
+                ("s_rz", &e.s_rz),
+                ("s_tt", &e.s_tt),
+                ("p", &e.p),
+                ("energy", &e.energy),
+                ("eps_p", &e.eps_p),
+                ("temperature", &e.temperature),
+                ("damage", &e.damage),
+                ("failed", &e.failed),
+                ("force", &e.force),
+                ("dt", &e.dt),
+                ("plastic_work", &e.plastic_work),
+                ("plastic_total", plastic_total),
             ],
-        );
+        )?;
         let forces_bind = forces.bind(
             gpu,
             &[
-                fem_uniform,
-                &n.elem_offsets,
-                &n.elem_refs,
-                &e.force,
-                &n.fr,
-                &n.fz,
+                ("u", fem_uniform),
+                ("elem_offsets", &n.elem_offsets),
+                ("elem_refs", &n.elem_refs),
+                ("force", &e.force),
+                ("fr", &n.fr),
+                ("fz", &n.fz),
             ],
-        );
+        )?;
         Ok(FemPass {
             stress,
             forces,
@@ -148,6 +111,7 @@ mod tests {
     use crate::gpu::concrete::tests::{field_error, increment_error};
     use crate::gpu::integrate::{STATUS_CLEAR, STATUS_INVERTED_ELEMENT, STATUS_WORDS};
     use crate::gpu::params::FemUniform;
+    use crate::gpu::shader::{self, fem_stress_parts, Part};
     use crate::gpu::{run_once, test_gpu};
     use crate::materials::johnson_cook::FlowLaw;
     use crate::materials::zerilli_armstrong::ZaFcc;
@@ -177,7 +141,9 @@ mod tests {
     /// Evaluates the laws of johnson_cook.wgsl and steel_eos.wgsl on a list of cases, 8 inputs
     /// and 12 outputs each: (ε_p, ε̇, T, σ_trial, σ*, Δε_p, μ, E) → (T*, σ_y, H, the return's
     /// Δε_p, scale and σ_y, ε_f, ΔD, spall at mean stress σ_trial, p, dp/dμ, 0).
-    const LAW_KERNEL: &str = r#"
+    const LAW_KERNEL: Part = Part {
+        file: "(gpu::fem tests' law kernel)",
+        text: r#"
 @group(0) @binding(0) var<uniform> u: FemUniform;
 @group(0) @binding(1) var<storage, read> cases: array<f32>;
 @group(0) @binding(2) var<storage, read_write> out: array<f32>;
@@ -208,7 +174,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     out[o + 10u] = steel_eos_bulk_tangent(u, cases[a + 6u]);
     out[o + 11u] = 0.0;
 }
-"#;
+"#,
+    };
+
+    /// The law kernel is valid WGSL (checked without an adapter).
+    #[test]
+    fn law_kernel_validates() {
+        shader::validate(&fem_stress_parts(LAW_KERNEL)).unwrap();
+    }
 
     /// The same outputs from materials::johnson_cook and materials::steel_eos.
     fn law_cpu(m: &FemParams, c: &[f32; 8]) -> [f32; 12] {
@@ -293,6 +266,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     /// set on the floors (single return step, a softening EOS under its tangent floor, a
     /// failure strain of zero under its floor).
     #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn johnson_cook_law_matches_cpu() {
         let gpu = test_gpu();
         let steel = taylor(0).fem;
@@ -358,15 +332,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             let uniform = gpu.uniform("fem", &FemUniform::new(&m, cases.len(), 0));
             let input = gpu.buffer("cases", &flat);
             let output = gpu.zeros::<f32>("out", 12 * cases.len());
+            let src = shader::source(&fem_stress_parts(LAW_KERNEL));
             let k = gpu
-                .kernel(
-                    "johnson-cook law",
-                    &fem_source(LAW_KERNEL),
-                    "main",
-                    &[(Slot::Uniform, 1), (Slot::Read, 1), (Slot::ReadWrite, 1)],
+                .kernel_from("johnson-cook law", &src, "main", &[])
+                .unwrap();
+            let bind = k
+                .bind(
+                    &gpu,
+                    &[("u", &uniform), ("cases", &input), ("out", &output)],
                 )
                 .unwrap();
-            let bind = k.bind(&gpu, &[&uniform, &input, &output]);
             run_once(&gpu, |p| k.dispatch(p, &bind, cases.len() as u32)).unwrap();
             let got: Vec<f32> = gpu.read(&output, 12 * cases.len()).unwrap();
 
@@ -532,20 +507,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         n
     }
 
-    /// The shader's copy of the open-element threshold is the CPU's.
-    #[test]
-    fn open_threshold_matches_cpu() {
-        let line = format!(
-            "const OPEN_RELATIVE_VOLUME: f32 = {:?};",
-            crate::cpu::fem_stress::OPEN_RELATIVE_VOLUME
-        );
-        assert!(include_str!("../../shaders/fem_stress.wgsl").contains(&line));
-    }
-
     /// One fem_stress pass agrees with cpu::fem_stress::run field by field on a Taylor-bar
     /// state with yielding, damaged, failing, spalling and failed elements, with the CPU's
     /// bracketed Newton (30 iterations) and with the single linearised return step.
     #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn fem_stress_matches_cpu() {
         let gpu = test_gpu();
         let sim = taylor(TAYLOR_STEPS);
@@ -698,6 +664,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     /// bit-identical, from the CPU's element forces alone and right after fem_stress in the
     /// same compute pass (the forces pass must see the stress pass's writes).
     #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn fem_forces_matches_cpu() {
         let gpu = test_gpu();
         let sim = taylor(TAYLOR_STEPS);
@@ -738,6 +705,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     /// An inverted element (nodes turned clockwise) and one with a NaN node each put the
     /// smallest bad index into the status word; forces of good elements are still written.
     #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn inverted_element_sets_status() {
         let gpu = test_gpu();
         let sim = taylor(0);

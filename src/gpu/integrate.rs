@@ -1,30 +1,9 @@
 //! `integrate` and the time-step reduction on the GPU (shaders/integrate.wgsl,
 //! shaders/timestep.wgsl); CPU twins in `cpu::integrate` and `Simulation::stable_dt`.
 
-use encase::ShaderType;
-
+use super::shader::Program;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
-use super::{source, Gpu, Kernel, Slot};
-
-/// `StepUniform` of shaders/step.wgsl.
-#[derive(Clone, Copy, Debug, Default, ShaderType)]
-pub struct StepUniform {
-    pub n_particles: u32,
-    pub n_nodes: u32,
-    pub n_elements: u32,
-    pub n_slaves: u32,
-    pub n_masters: u32,
-    pub has_wall: u32,
-    pub wall_z: f32,
-    pub escape: f32,
-    pub r_min: f32,
-    pub h: f32,
-    pub alpha: f32,
-    pub beta: f32,
-    pub cfl: f32,
-    pub has_fem: u32,
-    pub hit_capacity: u32,
-}
+use super::{Gpu, Kernel};
 
 /// Status words (shaders/step.wgsl): the smallest index of an entity that went wrong.
 pub const STATUS_INVERTED_ELEMENT: usize = 0;
@@ -35,16 +14,6 @@ pub const STATUS_NODE_ESCAPED: usize = 4;
 pub const STATUS_WORDS: usize = 8;
 /// A status word with nothing to report.
 pub const STATUS_CLEAR: u32 = u32::MAX;
-
-/// The WGSL of the step's own passes: the shared blocks, then `parts`.
-pub(crate) fn step_source(parts: &[&str]) -> String {
-    let mut all = vec![
-        include_str!("../../shaders/params.wgsl"),
-        include_str!("../../shaders/step.wgsl"),
-    ];
-    all.extend_from_slice(parts);
-    source(&all)
-}
 
 /// The integration of particles and nodes, and the Δt reduction.
 pub struct IntegratePass {
@@ -81,18 +50,6 @@ impl Accumulators {
     }
 }
 
-const INTEGRATE_SLOTS: &[(Slot, usize)] = &[
-    (Slot::Uniform, 1),
-    (Slot::ReadWrite, 6),
-    (Slot::Read, 4),
-    (Slot::ReadWrite, 2),
-    (Slot::Read, 1),
-    (Slot::ReadWrite, 1),
-];
-
-const TIMESTEP_SLOTS: &[(Slot, usize)] =
-    &[(Slot::Uniform, 1), (Slot::ReadWrite, 1), (Slot::Read, 4)];
-
 impl IntegratePass {
     /// `particles` is None for a scene without a target, `elements` None for a rigid
     /// projectile (its stable step does not take part).
@@ -108,12 +65,24 @@ impl IntegratePass {
         acc: &Accumulators,
     ) -> Result<IntegratePass, String> {
         let n_particles = particles.map_or(0, |p| p.len as u32);
-        let src = step_source(&[include_str!("../../shaders/integrate.wgsl")]);
-        let integrate =
-            |entry: &str| gpu.kernel(&format!("integrate.{entry}"), &src, entry, INTEGRATE_SLOTS);
-        let tsrc = step_source(&[include_str!("../../shaders/timestep.wgsl")]);
-        let timestep =
-            |entry: &str| gpu.kernel(&format!("timestep.{entry}"), &tsrc, entry, TIMESTEP_SLOTS);
+        let integrate = |entry: &str| gpu.kernel(Program::Integrate, entry, &[]);
+        let timestep = |entry: &str| gpu.kernel(Program::Timestep, entry, &[]);
+        // The reductions' bindings a–d: what their entry point reads (timestep.wgsl), with one
+        // buffer in the slots an entry point leaves unused.
+        let reduction = |k: &Kernel, reads: [&wgpu::Buffer; 4]| {
+            let [a, b, c, d] = reads;
+            k.bind(
+                gpu,
+                &[
+                    ("u", step),
+                    ("clock", clock),
+                    ("a", a),
+                    ("b", b),
+                    ("c", c),
+                    ("d", d),
+                ],
+            )
+        };
 
         let particles_pass = match particles {
             Some(p) => {
@@ -121,25 +90,25 @@ impl IntegratePass {
                 let b = k.bind(
                     gpu,
                     &[
-                        step,
-                        clock,
-                        status,
-                        &p.r,
-                        &p.z,
-                        &p.vr,
-                        &p.vz,
-                        &p.ar,
-                        &p.az,
-                        &p.mass,
-                        &p.fixed,
-                        &acc.particle_impulse,
-                        &acc.unused[0],
-                        &p.de_work,
-                        &p.energy,
+                        ("u", step),
+                        ("clock", clock),
+                        ("status", status),
+                        ("r", &p.r),
+                        ("z", &p.z),
+                        ("vr", &p.vr),
+                        ("vz", &p.vz),
+                        ("ar", &p.ar),
+                        ("az", &p.az),
+                        ("mass", &p.mass),
+                        ("flag", &p.fixed),
+                        ("impulse", &acc.particle_impulse),
+                        ("lost", &acc.unused[0]),
+                        ("de_work", &p.de_work),
+                        ("energy", &p.energy),
                     ],
-                );
+                )?;
                 let kd = timestep("particle_dt")?;
-                let bd = kd.bind(gpu, &[step, clock, &p.sound, &p.vr, &p.vz, &p.mu_visc]);
+                let bd = reduction(&kd, [&p.sound, &p.vr, &p.vz, &p.mu_visc])?;
                 Some(((k, b), (kd, bd)))
             }
             None => None,
@@ -149,34 +118,33 @@ impl IntegratePass {
         let nodes_bind = k.bind(
             gpu,
             &[
-                step,
-                clock,
-                status,
-                &n.r,
-                &n.z,
-                &n.vr,
-                &n.vz,
-                &n.fr,
-                &n.fz,
-                &n.mass,
-                &n.on_axis,
-                &acc.node_impulse,
-                &acc.node_lost,
-                &acc.unused[1],
-                &acc.unused[0],
+                ("u", step),
+                ("clock", clock),
+                ("status", status),
+                ("r", &n.r),
+                ("z", &n.z),
+                ("vr", &n.vr),
+                ("vz", &n.vz),
+                ("ar", &n.fr),
+                ("az", &n.fz),
+                ("mass", &n.mass),
+                ("flag", &n.on_axis),
+                ("impulse", &acc.node_impulse),
+                ("lost", &acc.node_lost),
+                ("de_work", &acc.unused[1]),
+                ("energy", &acc.unused[0]),
             ],
-        );
+        )?;
         let element_dt = match elements {
             Some(e) => {
                 let k = timestep("element_dt")?;
-                let b = k.bind(gpu, &[step, clock, &e.dt, &e.dt, &e.dt, &e.dt]);
+                let b = reduction(&k, [&e.dt; 4])?;
                 Some((k, b))
             }
             None => None,
         };
         let kf = timestep("finish")?;
-        // `finish` reads only the clock; any f32 buffer fills the unused slots.
-        let bf = kf.bind(gpu, &[step, clock, &n.r, &n.r, &n.r, &n.r]);
+        let bf = reduction(&kf, [&n.r; 4])?;
         let (particles, particle_dt) = match particles_pass {
             Some((a, b)) => (Some(a), Some(b)),
             None => (None, None),
@@ -216,6 +184,7 @@ impl IntegratePass {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gpu::params::StepUniform;
     use crate::gpu::{run_once, test_gpu};
     use crate::solver::Simulation;
 
@@ -260,6 +229,7 @@ mod tests {
 
     /// One integration and one Δt reduction agree with the CPU twins on the smoke state.
     #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn integrate_and_timestep_match_cpu() {
         let gpu = test_gpu();
         let sim = smoke(60);
@@ -336,6 +306,7 @@ mod tests {
 
     /// A non-finite velocity is flagged with the particle's index.
     #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn integrate_flags_a_non_finite_particle() {
         let gpu = test_gpu();
         let mut sim = smoke(0);

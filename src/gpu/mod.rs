@@ -1,19 +1,21 @@
 //! The GPU path: the step's passes as WGSL compute shaders (`shaders/`) through wgpu.
 //!
-//! `Gpu` owns the device; `Kernel` is one compute pipeline whose bindings are described by
-//! runs of `Slot`s in binding order; `state` holds one storage buffer per field of the CPU's
-//! structure-of-arrays state, so every shader has a CPU twin with the same data.
+//! `Gpu` owns the device; `Kernel` is one compute pipeline whose bind-group layout is read from
+//! its shader (`shader`: every program assembled in one place, parsed by naga) and whose
+//! buffers are bound by their WGSL names; `state` holds one storage buffer per field of the
+//! CPU's structure-of-arrays state, so every shader has a CPU twin with the same data.
 //!
 //! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
 //! is missing (an adapter, a limit, a feature) so the command line can say so.
 
 pub mod concrete;
-pub mod contact;
+pub mod contact_detect;
 pub mod fem;
 pub mod integrate;
 pub mod neighbours;
 pub mod params;
 pub mod scan;
+pub mod shader;
 pub mod sph_forces;
 pub mod sph_rates;
 pub mod state;
@@ -28,10 +30,6 @@ pub const WORKGROUP: u32 = 64;
 
 /// Items each thread of a reduction folds (`Kernel::dispatch_fold`).
 pub const FOLD: u32 = 32;
-
-/// Storage buffers the widest pass binds at once (sph_forces: 25; fem_stress 22); the adapter
-/// must allow this many per shader stage.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 25;
 
 /// An adapter as `penetrate adapters` lists it.
 #[derive(Clone, Debug)]
@@ -51,10 +49,11 @@ fn instance() -> wgpu::Instance {
 /// Why an adapter cannot run the solver (a limit below what the passes bind), or None.
 fn unusable(adapter: &wgpu::Adapter) -> Option<String> {
     let limits = adapter.limits();
-    if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
+    let needed = shader::storage_buffers_needed();
+    if limits.max_storage_buffers_per_shader_stage < needed {
         return Some(format!(
-            "max_storage_buffers_per_shader_stage is {}, the solver binds up to {}",
-            limits.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS_NEEDED
+            "max_storage_buffers_per_shader_stage is {}, the solver binds up to {needed}",
+            limits.max_storage_buffers_per_shader_stage
         ));
     }
     if !adapter
@@ -122,7 +121,7 @@ pub struct Gpu {
     allocated: std::sync::atomic::AtomicU64,
 }
 
-/// How a shader binding is used (binding i of a kernel is slot i).
+/// How a shader binding is used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Slot {
     Uniform,
@@ -130,12 +129,12 @@ pub enum Slot {
     ReadWrite,
 }
 
-/// One compute pipeline and its bind-group layout.
+/// One compute pipeline, its bind-group layout and the shader's bindings it was made from.
 pub struct Kernel {
     pub name: String,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-    slots: Vec<Slot>,
+    bindings: Vec<shader::Binding>,
 }
 
 impl Gpu {
@@ -379,34 +378,40 @@ impl Gpu {
         Ok(out)
     }
 
-    /// Build a compute pipeline from WGSL source. `bindings` lists the shader's bindings in
-    /// order as runs of one kind: `&[(Slot::Uniform, 1), (Slot::Read, 8), (Slot::ReadWrite, 7)]`
-    /// is binding 0 a uniform, 1–8 read-only storage, 9–15 read-write storage.
+    /// The compute pipeline of `entry` in `program`, with values for its pipeline-overridable
+    /// constants (`override`): what a scene does not need is then compiled out, not skipped at
+    /// run time.
     pub fn kernel(
         &self,
-        name: &str,
-        source: &str,
+        program: shader::Program,
         entry: &str,
-        bindings: &[(Slot, usize)],
+        constants: &[(&str, f64)],
     ) -> Result<Kernel, String> {
-        self.kernel_with(name, source, entry, bindings, &[])
+        let name = format!("{}.{entry}", program.name());
+        let mut given: Vec<&str> = constants.iter().map(|(c, _)| *c).collect();
+        let mut declared = program.overrides().to_vec();
+        given.sort_unstable();
+        declared.sort_unstable();
+        if given != declared {
+            return Err(format!(
+                "kernel {name}: constants {given:?} given, the program overrides {declared:?}"
+            ));
+        }
+        self.kernel_from(&name, &program.source(), entry, constants)
     }
 
-    /// `kernel` with values for the shader's pipeline-overridable constants (`override`): what
-    /// a scene does not need is then compiled out, not skipped at run time.
-    pub fn kernel_with(
+    /// A compute pipeline from WGSL source (`shader::source`); its bind-group layout is the
+    /// shader's own bindings.
+    pub fn kernel_from(
         &self,
         name: &str,
         source: &str,
         entry: &str,
-        bindings: &[(Slot, usize)],
         constants: &[(&str, f64)],
     ) -> Result<Kernel, String> {
-        let slots: Vec<Slot> = bindings
-            .iter()
-            .flat_map(|&(slot, n)| std::iter::repeat_n(slot, n))
-            .collect();
-        let storage = slots.iter().filter(|s| **s != Slot::Uniform).count() as u32;
+        let bindings =
+            shader::bindings(source).map_err(|e| format!("shader {name} does not parse: {e}"))?;
+        let storage = bindings.iter().filter(|b| b.slot != Slot::Uniform).count() as u32;
         if storage > self.limits.max_storage_buffers_per_shader_stage {
             return Err(format!(
                 "adapter {} cannot run {name}: it binds {storage} storage buffers, above the \
@@ -420,14 +425,13 @@ impl Gpu {
                 label: Some(name),
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = slots
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
             .iter()
-            .enumerate()
-            .map(|(i, slot)| wgpu::BindGroupLayoutEntry {
-                binding: i as u32,
+            .map(|b| wgpu::BindGroupLayoutEntry {
+                binding: b.index,
                 visibility: wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Buffer {
-                    ty: match slot {
+                    ty: match b.slot {
                         Slot::Uniform => wgpu::BufferBindingType::Uniform,
                         Slot::Read => wgpu::BufferBindingType::Storage { read_only: true },
                         Slot::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
@@ -471,34 +475,47 @@ impl Gpu {
             name: name.to_string(),
             pipeline,
             layout,
-            slots,
+            bindings,
         })
     }
 }
 
 impl Kernel {
-    /// A bind group with `buffers[i]` at binding i.
-    pub fn bind(&self, gpu: &Gpu, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-        assert_eq!(
-            buffers.len(),
-            self.slots.len(),
-            "kernel {} binds {} buffers",
-            self.name,
-            self.slots.len()
-        );
-        let entries: Vec<wgpu::BindGroupEntry> = buffers
+    /// A bind group with each of the shader's bindings given its buffer by name: every
+    /// binding must be named once, and only bindings the shader declares.
+    pub fn bind(
+        &self,
+        gpu: &Gpu,
+        buffers: &[(&str, &wgpu::Buffer)],
+    ) -> Result<wgpu::BindGroup, String> {
+        if let Some((name, _)) = buffers
             .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
+            .find(|(name, _)| !self.bindings.iter().any(|b| b.name == *name))
+        {
+            return Err(format!("kernel {} has no binding {name}", self.name));
+        }
+        let entries = self
+            .bindings
+            .iter()
+            .map(|b| {
+                let mut given = buffers.iter().filter(|(name, _)| *name == b.name);
+                match (given.next(), given.next()) {
+                    (Some((_, buffer)), None) => Ok(wgpu::BindGroupEntry {
+                        binding: b.index,
+                        resource: buffer.as_entire_binding(),
+                    }),
+                    (None, _) => Err(format!("kernel {}: no buffer for {}", self.name, b.name)),
+                    (Some(_), Some(_)) => {
+                        Err(format!("kernel {}: {} given twice", self.name, b.name))
+                    }
+                }
             })
-            .collect();
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(&self.name),
             layout: &self.layout,
             entries: &entries,
-        })
+        }))
     }
 
     /// Record one dispatch covering `items` threads (one per item).
@@ -533,16 +550,6 @@ impl Kernel {
         pass.set_bind_group(0, bind, &[]);
         pass.dispatch_workgroups(groups, 1, 1);
     }
-}
-
-/// WGSL source of a pass: the shared helpers, then the pass's own files.
-pub fn source(parts: &[&str]) -> String {
-    let mut s = String::from(include_str!("../../shaders/common.wgsl"));
-    for p in parts {
-        s.push('\n');
-        s.push_str(p);
-    }
-    s
 }
 
 /// Run `record` in one compute pass, submit, and wait (tests and one-off uses).

@@ -1,5 +1,6 @@
-//! Uniform parameter blocks shared by the passes, laid out by encase; their WGSL twins are in
-//! `shaders/params.wgsl` (same field names, same order).
+//! Uniform parameter blocks shared by the passes, each declared once: `uniform_block!` makes the
+//! Rust struct (laid out by encase) and the WGSL declaration the shader prelude carries
+//! (`shader::prelude`), so the two cannot differ in a field, its type or its place.
 
 use encase::ShaderType;
 
@@ -7,17 +8,52 @@ use crate::materials::johnson_cook::FlowLaw;
 use crate::materials::zerilli_armstrong::ZaFcc;
 use crate::state::{FemParams, SphParams};
 
-/// `KernelParams` of `shaders/common.wgsl`.
-#[derive(Clone, Copy, Debug, ShaderType)]
-pub struct KernelUniform {
-    pub h: f32,
-    pub inv_h: f32,
-    pub norm: f32,
-    pub dnorm: f32,
+/// Declares a uniform block: the Rust struct and, as `WGSL`, its WGSL struct. Field types are
+/// written as WGSL spells them (f32, u32 or another block), so the text is the Rust tokens.
+macro_rules! uniform_block {
+    ($(#[$meta:meta])* pub struct $name:ident {
+        $($(#[$field_meta:meta])* pub $field:ident: $ty:ident,)*
+    }) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, ShaderType)]
+        pub struct $name {
+            $($(#[$field_meta])* pub $field: $ty,)*
+        }
+
+        impl $name {
+            /// The block's WGSL declaration.
+            pub const WGSL: &'static str = concat!(
+                "struct ", stringify!($name), " {\n",
+                $("    ", stringify!($field), ": ", stringify!($ty), ",\n",)*
+                "}\n"
+            );
+        }
+    };
 }
 
+/// Every block's WGSL, for the shader prelude.
+pub const BLOCKS: [&str; 5] = [
+    KernelUniform::WGSL,
+    SphUniform::WGSL,
+    FemUniform::WGSL,
+    StepUniform::WGSL,
+    ScanLevel::WGSL,
+];
+
+uniform_block! {
+    /// The SPH kernel of `src/kernel.rs` (common.wgsl's kernel functions take it).
+    pub struct KernelUniform {
+        pub h: f32,
+        pub inv_h: f32,
+        /// SIGMA_2D / h²
+        pub norm: f32,
+        /// SIGMA_2D / h³
+        pub dnorm: f32,
+    }
+}
+
+uniform_block! {
 /// `SphUniform`: the target's constants (SphParams and its HJC set) and the particle count.
-#[derive(Clone, Copy, Debug, ShaderType)]
 pub struct SphUniform {
     pub kernel: KernelUniform,
     pub n: u32,
@@ -48,6 +84,7 @@ pub struct SphUniform {
     pub k3: f32,
     pub p_lock: f32,
     pub mu_lock: f32,
+}
 }
 
 impl SphUniform {
@@ -92,8 +129,8 @@ impl SphUniform {
     }
 }
 
+uniform_block! {
 /// `FemUniform`: the projectile material (FemParams) and the element and node counts.
-#[derive(Clone, Copy, Debug, ShaderType)]
 pub struct FemUniform {
     pub n_elements: u32,
     pub n_nodes: u32,
@@ -131,6 +168,7 @@ pub struct FemUniform {
     pub za_c2: f32,
     pub za_c3: f32,
     pub za_c4: f32,
+}
 }
 
 impl FemUniform {
@@ -176,5 +214,38 @@ impl FemUniform {
             za_c3: za.c3,
             za_c4: za.c4,
         }
+    }
+}
+
+uniform_block! {
+    /// The step's own passes' block (integrate, timestep, contact_detect, fem_stress).
+    #[derive(Default)]
+    pub struct StepUniform {
+        pub n_particles: u32,
+        pub n_nodes: u32,
+        pub n_elements: u32,
+        pub n_slaves: u32,
+        pub n_masters: u32,
+        pub has_wall: u32,
+        pub wall_z: f32,
+        pub escape: f32,
+        /// Particles are kept at least this far off the axis (0.1 h).
+        pub r_min: f32,
+        pub h: f32,
+        pub alpha: f32,
+        pub beta: f32,
+        pub cfl: f32,
+        /// 1 when the elements' stable step takes part (a deformable projectile).
+        pub has_fem: u32,
+        /// Largest number of hits the per-step read-back holds (the rest is read separately).
+        pub hit_capacity: u32,
+    }
+}
+
+uniform_block! {
+    /// One level of the prefix scan (scan.wgsl).
+    pub struct ScanLevel {
+        /// Entries of `data` to scan.
+        pub len: u32,
     }
 }

@@ -90,11 +90,11 @@ pub const GRAIN_DENSITY: f32 = 2684.0;
 const LOCK_NEWTON_STEPS: u32 = 4;
 
 /// Smallest base handed to `powf` (WGSL's `pow` is undefined for a base ≤ 0).
-const POW_BASE_FLOOR: f32 = 1.0e-30;
+pub(crate) const POW_BASE_FLOOR: f32 = 1.0e-30;
 
 /// Failure strain never drops below this even if EF_min = 0 (OpenRadioss defaults it to 1e-20),
 /// so the damage increment stays finite.
-const FAILURE_STRAIN_FLOOR: f32 = 1.0e-20;
+pub(crate) const FAILURE_STRAIN_FLOOR: f32 = 1.0e-20;
 
 /// Fully dense curve p = K₁μ̄ + K₂μ̄² + K₃μ̄³ (physics.md §3.1), μ̄ = (μ − μ_lock)/(1 + μ_lock).
 fn dense_pressure(h: &Hjc, mu_bar: f32) -> f32 {

@@ -45,7 +45,7 @@ pub struct JcDamage {
 /// Smallest base handed to `powf`: WGSL's `pow(x, y)` is undefined for x ≤ 0, so every power of a
 /// quantity that may be 0 (ε_p, T*) is taken of `max(x, POW_BASE_FLOOR)`. (1e-30)^0.26·B is far below
 /// one f32 ulp of A, so the flow stress at ε_p = 0 is still A to the last bit.
-const POW_BASE_FLOOR: f32 = 1.0e-30;
+pub(crate) const POW_BASE_FLOOR: f32 = 1.0e-30;
 
 /// Plastic strain below which the hardening modulus is evaluated at this value instead. For n < 1,
 /// dσ_y/dε_p = nBε_p^(n−1) is infinite at ε_p = 0; at 1e-4 it is ≈ 1.2e11 Pa for 4340
@@ -58,10 +58,10 @@ pub const FAILURE_STRAIN_FLOOR: f32 = 1.0e-6;
 
 /// Largest exponent D₃σ* handed to `exp`: e^80 ≈ 5.5e34 keeps ε_f finite in f32 even for extreme
 /// compressive triaxiality (where ε_f is effectively infinite anyway).
-const DAMAGE_EXP_CAP: f32 = 80.0;
+pub(crate) const DAMAGE_EXP_CAP: f32 = 80.0;
 
 /// Newton stops when |f(Δε_p)| ≤ this × σ_trial (f32 resolves σ to ~6e-8 relative).
-const RETURN_TOLERANCE: f32 = 1.0e-7;
+pub(crate) const RETURN_TOLERANCE: f32 = 1.0e-7;
 
 /// Homologous temperature T* = (T − T_room)/(T_melt − T_room), clamped to [0, 1] (physics.md §2.1;
 /// the paper's T/T_melt is the T_room = 0 case).
