@@ -51,6 +51,7 @@ fn pngs(dir: &Path, found: &mut Vec<PathBuf>) {
 /// The quick validation on the CPU: every section in the report, each section's CSV with one
 /// row per run, the plots valid PNG files, and the quick-run warning in the header.
 #[test]
+#[ignore = "full tier: long run (bash scripts/test)"]
 fn quick_validation_writes_every_section() {
     let out = scratch("validate-quick");
     let o = penetrate(&[
@@ -140,6 +141,7 @@ fn quick_validation_writes_every_section() {
 /// `--only` runs the sections named and the report says which ran; an unknown section or a
 /// missing data folder is refused before anything runs.
 #[test]
+#[ignore = "full tier: long run (bash scripts/test)"]
 fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let out = scratch("validate-only");
     let dir = out.to_str().unwrap();
@@ -198,6 +200,7 @@ fn quick_only(backend: &str, sections: &str, out: &Path) -> Output {
 /// the first backend listed, and the report names both. Needs a GPU adapter (lavapipe in CI):
 /// without one `validate` refuses the GPU and this test fails.
 #[test]
+#[ignore = "full tier: long run (bash scripts/test)"]
 fn a_backend_list_runs_the_sections_on_its_first() {
     let out = scratch("validate-backends");
     let o = quick_only("cpu,gpu", "taylor", &out);
@@ -217,6 +220,7 @@ fn a_backend_list_runs_the_sections_on_its_first() {
 /// round-off ensemble, whose runs are struck 0, ±1 and ±2 f32 ulps faster at the coarsest
 /// level, on each backend, with the check on their mean depths computed from those runs.
 #[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn convergence_compares_the_backends_run_by_run_and_by_roundoff_ensemble() {
     let out = scratch("validate-convergence");
     let o = quick_only("cpu,gpu", "convergence", &out);
@@ -378,6 +382,7 @@ fn resume_takes_matching_completed_runs_only() {
 /// 277 and 642 m/s shots. `--resume` takes them from the folder of the section that made them
 /// in an earlier process, and the study's history plot reads them there.
 #[test]
+#[ignore = "full tier: long run (bash scripts/test)"]
 fn resume_takes_a_run_another_section_made() {
     let out = scratch("validate-resume-shared");
     let dir = out.to_str().unwrap();
@@ -416,6 +421,7 @@ fn resume_takes_a_run_another_section_made() {
 /// On the GPU `--resume` also asks for the same adapter: a run whose summary names another one
 /// (another machine's GPU, whose wall times mean something else) is run again.
 #[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn resume_takes_gpu_runs_from_the_same_adapter_only() {
     let out = scratch("validate-resume-gpu");
     let dir = out.to_str().unwrap();
