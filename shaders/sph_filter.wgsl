@@ -1,4 +1,4 @@
-// `sph_filter` (CPU twin: `filtered_velocity` in src/cpu/sph_rates.rs): with
+// `sph_filter` (CPU twin: src/cpu/sph_filter.rs): with
 // `target.velocity_filter = "linear"`, each particle's velocity moved by the kernel-weighted
 // mean of its neighbours' departures from the linear field that the first `gradient` dispatch
 // fitted at it, v̄_i = v_i + Σ_j A_j W_ij (v_j − v_i − L_i (x_j − x_i)) / Σ_j A_j W_ij (i itself

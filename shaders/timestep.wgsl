@@ -1,4 +1,4 @@
-// The stable time step (CPU twin: integrate::particle_dt, integrate::element_dt and
+// The stable time step (CPU twin: src/cpu/timestep.rs, the minimum taken by
 // Simulation::stable_dt): a min-reduction over particles and elements into the clock, each
 // thread folding a strided share first so that few atomics reach the clock. The minimum is
 // order-independent, so the result is deterministic. Needs params.wgsl and step.wgsl.

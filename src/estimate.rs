@@ -1,7 +1,7 @@
 //! Up-front estimates for `penetrate check`: counts, stable step, step count, memory.
 
-use crate::cpu::fem_stress::Geometry;
 use crate::materials::hjc;
+use crate::mesh::geometry::Geometry;
 use crate::mesh::{self, ProjectileMesh};
 use crate::scene::{Scene, TargetSpec};
 

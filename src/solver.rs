@@ -434,10 +434,10 @@ impl Simulation {
     fn stable_dt(&mut self) -> Result<f32, RunError> {
         let mut dt = f32::MAX;
         if let Some(sph) = &self.sph {
-            dt = dt.min(cpu::integrate::particle_dt(&self.particles, sph));
+            dt = dt.min(cpu::timestep::particle_dt(&self.particles, sph));
         }
         if self.has(Pass::FemStress) {
-            dt = dt.min(cpu::integrate::element_dt(&self.projectile.elements));
+            dt = dt.min(cpu::timestep::element_dt(&self.projectile.elements));
         }
         let dt = dt * self.scene.run.cfl as f32;
         self.check_dt(dt)?;
@@ -494,7 +494,7 @@ impl Simulation {
                 offer(e.dt[k], &|| {
                     let el = e.nodes[k];
                     let c = |v: &[f32]| el.iter().map(|&i| v[i as usize]).sum::<f32>() / 3.0;
-                    let volume = cpu::fem_stress::Geometry::new(&el, &n.r, &n.z).volume();
+                    let volume = crate::mesh::geometry::Geometry::new(&el, &n.r, &n.z).volume();
                     format!(
                         "element {k} has the smallest stable step, {:e} s, at (r {:.4e}, \
                          z {:.4e}) m: {:.3e} of its initial volume, plastic strain {:.3}, \
@@ -512,7 +512,7 @@ impl Simulation {
         }
         if let Some(sph) = &self.sph {
             let p = &self.particles;
-            let step = |i: usize| cpu::integrate::particle_step(p, sph, i);
+            let step = |i: usize| cpu::timestep::particle_step(p, sph, i);
             if let Some(i) = (0..p.len()).min_by(|&a, &b| step(a).total_cmp(&step(b))) {
                 offer(step(i), &|| {
                     format!(

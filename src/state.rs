@@ -329,7 +329,7 @@ impl Projectile {
             .elements
             .iter()
             .map(|el| {
-                let g = crate::cpu::fem_stress::Geometry::new(el, &mesh.node_r, &mesh.node_z);
+                let g = crate::mesh::geometry::Geometry::new(el, &mesh.node_r, &mesh.node_z);
                 g.volume()
             })
             .collect();

@@ -465,7 +465,8 @@ fn depth_ignores_nodes_of_failed_elements_only() {
 /// their forces and the usual step.
 #[test]
 fn an_open_failed_element_exerts_nothing_and_sets_no_step() {
-    use penetrate::cpu::fem_stress::{self, Geometry, OPEN_RELATIVE_VOLUME};
+    use penetrate::cpu::fem_stress::{self, OPEN_RELATIVE_VOLUME};
+    use penetrate::mesh::geometry::Geometry;
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let sim = Simulation::new(&scene).unwrap();
     let at_rest = sim.projectile.nodes.clone();
@@ -523,7 +524,8 @@ fn an_open_failed_element_exerts_nothing_and_sets_no_step() {
 /// to limit its step: the run stops and says so, rather than take a step of 10³⁸ s.
 #[test]
 fn nothing_left_to_limit_the_step_stops_the_run() {
-    use penetrate::cpu::fem_stress::{Geometry, OPEN_RELATIVE_VOLUME};
+    use penetrate::cpu::fem_stress::OPEN_RELATIVE_VOLUME;
+    use penetrate::mesh::geometry::Geometry;
     let scene = scene::load(&case("taylor-4340-208.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     sim.step().unwrap();

@@ -3,7 +3,7 @@
 //! included), a crushing slug conserves energy and axial momentum (with the Balsara switch too),
 //! and the switch takes the viscosity out of a shear and leaves it in a compression.
 
-use penetrate::cpu::{concrete, integrate, neighbours, sph_forces, sph_rates};
+use penetrate::cpu::{concrete, integrate, neighbours, sph_forces, sph_rates, timestep};
 use penetrate::materials::hjc::Hjc;
 use penetrate::mesh::target::lattice;
 use penetrate::scene::{TargetSpec, VelocityFilter, VelocityGradient, ViscositySwitch};
@@ -62,7 +62,7 @@ fn target_at_rest_stays_at_rest() {
     let (mut p, params) = target(&s);
     let mut grid = neighbours::CellGrid::default();
     let support = integrate::support(&params);
-    let dt = 0.3 * integrate::particle_dt(&p, &params);
+    let dt = 0.3 * timestep::particle_dt(&p, &params);
     for _ in 0..1000 {
         integrate::particles(&mut p, &params, dt, 10.0).unwrap();
         neighbours::run(&mut grid, &p.r, &p.z, support);
@@ -446,12 +446,12 @@ fn slug_impact(switch: ViscositySwitch) {
         concrete::run(p, &params, dt);
         sph_forces::run(p, grid, &params);
     };
-    let mut dt = 0.3 * integrate::particle_dt(&p, &params);
+    let mut dt = 0.3 * timestep::particle_dt(&p, &params);
     step(&mut p, &mut grid, dt);
     for _ in 0..1500 {
         integrate::particles(&mut p, &params, dt, 10.0).unwrap();
         step(&mut p, &mut grid, dt);
-        dt = 0.3 * integrate::particle_dt(&p, &params);
+        dt = 0.3 * timestep::particle_dt(&p, &params);
     }
     let (k, e, strain) = (ke(&p), sum(&p, &p.energy), sum(&p, &p.strain_energy));
     let error = (k + e - e0) / e0;

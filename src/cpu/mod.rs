@@ -9,5 +9,7 @@ pub mod fem_forces;
 pub mod fem_stress;
 pub mod integrate;
 pub mod neighbours;
+pub mod sph_filter;
 pub mod sph_forces;
 pub mod sph_rates;
+pub mod timestep;

@@ -16,7 +16,7 @@
 //! hoop source does work `n_i σ_θθ v_r/r` per unit mass: near 1 inside, about ½ at a free face
 //! normal to r, where L's normal part falls short by the same missing half of the kernel.
 //!
-//! With the velocity filter on (`target.velocity_filter = "linear"`, [`filtered_velocity`]) L
+//! With the velocity filter on (`target.velocity_filter = "linear"`, [`super::sph_filter`]) L
 //! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
 //! of its neighbours' departures from the linear field that a first L fits: a linear field
 //! passes unchanged, particle-scale scatter is averaged out (README, "Choices").
@@ -96,7 +96,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     };
     let filtered;
     let (vr, vz): (&[f32], &[f32]) = if params.velocity_filter {
-        filtered = filtered_velocity(&field, vr, vz);
+        filtered = super::sph_filter::run(&field, vr, vz);
         (&filtered.0, &filtered.1)
     } else {
         (vr, vz)
@@ -125,25 +125,25 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
 }
 
 /// What a gather over the particles reads besides the field gathered.
-struct Field<'a> {
-    r: &'a [f32],
-    z: &'a [f32],
-    rho: &'a [f32],
-    m_tilde: &'a [f32],
-    area: &'a [f32],
-    h: f32,
+pub(crate) struct Field<'a> {
+    pub(super) r: &'a [f32],
+    pub(super) z: &'a [f32],
+    pub(super) rho: &'a [f32],
+    pub(super) m_tilde: &'a [f32],
+    pub(super) area: &'a [f32],
+    pub(super) h: f32,
     /// Gather the conjugate gradient instead of the corrected one.
-    conjugate: bool,
-    grid: &'a CellGrid,
-    kernel: &'a crate::kernel::Kernel,
-    support: f32,
+    pub(super) conjugate: bool,
+    pub(super) grid: &'a CellGrid,
+    pub(super) kernel: &'a crate::kernel::Kernel,
+    pub(super) support: f32,
 }
 
 impl Field<'_> {
     /// L = G M⁻¹ at particle i of the velocity field (vr, vz); the conjugate gradient, G with
     /// m̃_j/ρ_i for m̃_j/ρ_j and uncorrected, where `conjugate`. And i's hoop weight
     /// `n_i = Σ_j m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i` (w = ±r as in `sph_forces`).
-    fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> ([f32; 4], f32) {
+    pub(crate) fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> ([f32; 4], f32) {
         let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
         let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
         let ri = hoop_radius(self.r[i], self.h);
@@ -175,35 +175,6 @@ impl Field<'_> {
         let l = if self.conjugate { g } else { correct(g, m) };
         (l, weight / self.rho[i])
     }
-}
-
-/// The filtered velocity of every particle: `v̄_i = v_i + Σ_j A_j W_ij (v_j − v_i − L_i (x_j −
-/// x_i)) / Σ_j A_j W_ij`, the sums over the neighbours and axis ghosts and i itself (whose term
-/// is zero), L_i the corrected gradient of the particles' own velocities, A = m̃/ρ. Where the
-/// field is linear and L exact, v̄ = v; a particle's departure from its neighbourhood's linear
-/// field, the scatter a kernel-scale gradient reads as δv/Δ, is replaced by the kernel's mean
-/// departure.
-fn filtered_velocity(field: &Field, vr: &[f32], vz: &[f32]) -> (Vec<f32>, Vec<f32>) {
-    let kernel = field.kernel;
-    (0..vr.len())
-        .into_par_iter()
-        .map(|i| {
-            let (l, _) = field.gradient(i, vr, vz);
-            let mut weight = kernel.w(0.0) * field.area[i];
-            let (mut sum_r, mut sum_z) = (0.0f32, 0.0f32);
-            for_each_neighbour(field.grid, field.r, field.z, i, field.support, |nb| {
-                let w = kernel.w(nb.dist) * field.area[nb.j];
-                let vrj = if nb.mirror { -vr[nb.j] } else { vr[nb.j] };
-                // x_j − x_i = −(dr, dz)
-                let dep_r = vrj - vr[i] + l[0] * nb.dr + l[1] * nb.dz;
-                let dep_z = vz[nb.j] - vz[i] + l[2] * nb.dr + l[3] * nb.dz;
-                weight += w;
-                sum_r += w * dep_r;
-                sum_z += w * dep_z;
-            });
-            (vr[i] + sum_r / weight, vz[i] + sum_z / weight)
-        })
-        .unzip()
 }
 
 /// Balsara's (1995) factor on the viscosity, `|∇·v|/(|∇·v| + |∇×v| + 10⁻⁴ c/h)`: near 1 where

@@ -1,8 +1,7 @@
-//! `integrate` and the time-step reduction on the GPU (shaders/integrate.wgsl,
-//! shaders/timestep.wgsl); CPU twins in `cpu::integrate` and `Simulation::stable_dt`.
+//! `integrate` on the GPU (shaders/integrate.wgsl); CPU twin `cpu::integrate`.
 
 use super::shader::Program;
-use super::state::{GpuElements, GpuNodes, GpuParticles};
+use super::state::{GpuNodes, GpuParticles};
 use super::{Gpu, Kernel};
 
 /// Status words (shaders/step.wgsl): the smallest index of an entity that went wrong.
@@ -15,16 +14,12 @@ pub const STATUS_WORDS: usize = 8;
 /// A status word with nothing to report.
 pub const STATUS_CLEAR: u32 = u32::MAX;
 
-/// The integration of particles and nodes, and the Δt reduction.
+/// The integration of particles and nodes.
 pub struct IntegratePass {
     particles: Option<(Kernel, wgpu::BindGroup)>,
     nodes: (Kernel, wgpu::BindGroup),
-    particle_dt: Option<(Kernel, wgpu::BindGroup)>,
-    element_dt: Option<(Kernel, wgpu::BindGroup)>,
-    finish: (Kernel, wgpu::BindGroup),
     n_particles: u32,
     n_nodes: u32,
-    n_elements: u32,
 }
 
 /// Buffers the integration accumulates into (summed by the host at output time).
@@ -51,9 +46,7 @@ impl Accumulators {
 }
 
 impl IntegratePass {
-    /// `particles` is None for a scene without a target, `elements` None for a rigid
-    /// projectile (its stable step does not take part).
-    #[allow(clippy::too_many_arguments)]
+    /// `particles` is None for a scene without a target.
     pub fn new(
         gpu: &Gpu,
         step: &wgpu::Buffer,
@@ -61,29 +54,9 @@ impl IntegratePass {
         status: &wgpu::Buffer,
         particles: Option<&GpuParticles>,
         nodes: &GpuNodes,
-        elements: Option<&GpuElements>,
         acc: &Accumulators,
     ) -> Result<IntegratePass, String> {
-        let n_particles = particles.map_or(0, |p| p.len as u32);
         let integrate = |entry: &str| gpu.kernel(Program::Integrate, entry, &[]);
-        let timestep = |entry: &str| gpu.kernel(Program::Timestep, entry, &[]);
-        // The reductions' bindings a–d: what their entry point reads (timestep.wgsl), with one
-        // buffer in the slots an entry point leaves unused.
-        let reduction = |k: &Kernel, reads: [&wgpu::Buffer; 4]| {
-            let [a, b, c, d] = reads;
-            k.bind(
-                gpu,
-                &[
-                    ("u", step),
-                    ("clock", clock),
-                    ("a", a),
-                    ("b", b),
-                    ("c", c),
-                    ("d", d),
-                ],
-            )
-        };
-
         let particles_pass = match particles {
             Some(p) => {
                 let k = integrate("particles")?;
@@ -107,9 +80,7 @@ impl IntegratePass {
                         ("energy", &p.energy),
                     ],
                 )?;
-                let kd = timestep("particle_dt")?;
-                let bd = reduction(&kd, [&p.sound, &p.vr, &p.vz, &p.mu_visc])?;
-                Some(((k, b), (kd, bd)))
+                Some((k, b))
             }
             None => None,
         };
@@ -135,49 +106,20 @@ impl IntegratePass {
                 ("energy", &acc.unused[0]),
             ],
         )?;
-        let element_dt = match elements {
-            Some(e) => {
-                let k = timestep("element_dt")?;
-                let b = reduction(&k, [&e.dt; 4])?;
-                Some((k, b))
-            }
-            None => None,
-        };
-        let kf = timestep("finish")?;
-        let bf = reduction(&kf, [&n.r; 4])?;
-        let (particles, particle_dt) = match particles_pass {
-            Some((a, b)) => (Some(a), Some(b)),
-            None => (None, None),
-        };
         Ok(IntegratePass {
-            particles,
+            particles: particles_pass,
             nodes: (k, nodes_bind),
-            particle_dt,
-            element_dt,
-            finish: (kf, bf),
-            n_particles,
+            n_particles: particles.map_or(0, |p| p.len as u32),
             n_nodes: nodes.len as u32,
-            n_elements: elements.map_or(0, |e| e.len as u32),
         })
     }
 
     /// Velocities and positions of particles and nodes over the clock's Δt.
-    pub fn record_integrate(&self, pass: &mut wgpu::ComputePass) {
+    pub fn record(&self, pass: &mut wgpu::ComputePass) {
         if let Some((k, b)) = &self.particles {
             k.dispatch(pass, b, self.n_particles);
         }
         self.nodes.0.dispatch(pass, &self.nodes.1, self.n_nodes);
-    }
-
-    /// The next Δt into the clock, from the particles' and elements' current state.
-    pub fn record_timestep(&self, pass: &mut wgpu::ComputePass) {
-        if let Some((k, b)) = &self.particle_dt {
-            k.dispatch_fold(pass, b, self.n_particles);
-        }
-        if let Some((k, b)) = &self.element_dt {
-            k.dispatch_fold(pass, b, self.n_elements);
-        }
-        self.finish.0.dispatch_groups(pass, &self.finish.1, 1);
     }
 }
 
@@ -185,6 +127,8 @@ impl IntegratePass {
 mod tests {
     use super::*;
     use crate::gpu::params::StepUniform;
+    use crate::gpu::state::GpuElements;
+    use crate::gpu::timestep::TimestepPass;
     use crate::gpu::{run_once, test_gpu};
     use crate::solver::Simulation;
 
@@ -242,20 +186,11 @@ mod tests {
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
         let ge = GpuElements::upload(&gpu, &sim.projectile.elements);
         let acc = Accumulators::new(&gpu, gp.len, gn.len);
-        let pass = IntegratePass::new(
-            &gpu,
-            &step,
-            &clock,
-            &status,
-            Some(&gp),
-            &gn,
-            Some(&ge),
-            &acc,
-        )
-        .unwrap();
+        let pass = IntegratePass::new(&gpu, &step, &clock, &status, Some(&gp), &gn, &acc).unwrap();
+        let timestep = TimestepPass::new(&gpu, &step, &clock, Some(&gp), Some(&ge), &gn.r).unwrap();
         run_once(&gpu, |p| {
-            pass.record_integrate(p);
-            pass.record_timestep(p);
+            pass.record(p);
+            timestep.record(p);
         })
         .unwrap();
 
@@ -286,8 +221,8 @@ mod tests {
         }
 
         // The next Δt, from the integrated particle state and the elements' dt.
-        let expect = crate::cpu::integrate::particle_dt(&back, &sph)
-            .min(crate::cpu::integrate::element_dt(&sim.projectile.elements))
+        let expect = crate::cpu::timestep::particle_dt(&back, &sph)
+            .min(crate::cpu::timestep::element_dt(&sim.projectile.elements))
             * u.cfl;
         let words: Vec<u32> = gpu.read(&clock, 2).unwrap();
         let got = f32::from_bits(words[0]);
@@ -319,9 +254,8 @@ mod tests {
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
         let acc = Accumulators::new(&gpu, gp.len, gn.len);
-        let pass =
-            IntegratePass::new(&gpu, &step, &clock, &status, Some(&gp), &gn, None, &acc).unwrap();
-        run_once(&gpu, |p| pass.record_integrate(p)).unwrap();
+        let pass = IntegratePass::new(&gpu, &step, &clock, &status, Some(&gp), &gn, &acc).unwrap();
+        run_once(&gpu, |p| pass.record(p)).unwrap();
         let st: Vec<u32> = gpu.read(&status, STATUS_WORDS).unwrap();
         assert_eq!(st[STATUS_PARTICLE_NONFINITE], 17);
         assert_eq!(st[STATUS_NODE_NONFINITE], STATUS_CLEAR);

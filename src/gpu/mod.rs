@@ -16,10 +16,12 @@ pub mod neighbours;
 pub mod params;
 pub mod scan;
 pub mod shader;
+pub mod sph_filter;
 pub mod sph_forces;
 pub mod sph_rates;
 pub mod state;
 pub mod step;
+pub mod timestep;
 
 use std::sync::{Arc, Mutex};
 

@@ -2,6 +2,7 @@
 
 use super::neighbours::GpuGrid;
 use super::shader::Program;
+use super::sph_filter::SphFilterPass;
 use super::state::GpuParticles;
 use super::{Gpu, Kernel};
 use crate::state::SphParams;
@@ -19,14 +20,10 @@ pub struct SphRatesPass {
     n: u32,
 }
 
-/// The velocity filter's kernel, its bindings, and the rates' bindings with the filtered
-/// kinematics in kin's place.
+/// The velocity filter, and the rates' bindings with the filtered kinematics in kin's place.
 struct Filter {
-    kernel: Kernel,
-    bind: wgpu::BindGroup,
+    pass: SphFilterPass,
     rates_bind: wgpu::BindGroup,
-    /// Kept alive for the bind groups.
-    _kin_filtered: wgpu::Buffer,
 }
 
 impl SphRatesPass {
@@ -65,23 +62,10 @@ impl SphRatesPass {
         };
         let bind = rates_bind(&grid.kin)?;
         let filter = if params.velocity_filter {
-            let kernel = gpu.kernel(Program::SphFilter, "filter_velocity", &[])?;
-            let kin_filtered = gpu.zeros::<[f32; 4]>("filtered kinematics", p.len);
-            let own = [
-                ("u", sph_uniform),
-                ("area", &p.area),
-                ("l_rr", &p.l_rr),
-                ("l_rz", &p.l_rz),
-                ("l_zr", &p.l_zr),
-                ("l_zz", &p.l_zz),
-                ("kin_filtered", &kin_filtered),
-            ];
-            let bind = kernel.bind(gpu, &[&grid.walk_bindings(&grid.kin)[..], &own].concat())?;
+            let pass = SphFilterPass::new(gpu, particles, grid, sph_uniform)?;
             Some(Filter {
-                kernel,
-                bind,
-                rates_bind: rates_bind(&kin_filtered)?,
-                _kin_filtered: kin_filtered,
+                rates_bind: rates_bind(pass.kin_filtered())?,
+                pass,
             })
         } else {
             None
@@ -99,7 +83,7 @@ impl SphRatesPass {
         self.areas.dispatch(pass, &self.bind, self.n);
         self.gradient.dispatch(pass, &self.bind, self.n);
         if let Some(f) = &self.filter {
-            f.kernel.dispatch(pass, &f.bind, self.n);
+            f.pass.record(pass);
             self.gradient.dispatch(pass, &f.rates_bind, self.n);
         }
     }

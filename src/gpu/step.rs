@@ -28,6 +28,7 @@ use super::integrate::{
 use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::{SphUniform, StepUniform};
 use super::state::{GpuElements, GpuNodes, GpuParticles};
+use super::timestep::TimestepPass;
 use super::Gpu;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
 
@@ -86,6 +87,7 @@ pub struct GpuStep {
     elements: GpuElements,
     fem: Option<FemPass>,
     integrate: IntegratePass,
+    timestep: TimestepPass,
     acc: Accumulators,
     clock: wgpu::Buffer,
     status: wgpu::Buffer,
@@ -295,8 +297,15 @@ impl GpuStep {
             &status,
             sph.as_ref().map(|p| &p.particles),
             &nodes,
-            if s.deformable { Some(&elements) } else { None },
             &acc,
+        )?;
+        let timestep = TimestepPass::new(
+            &gpu,
+            &uniforms[0],
+            &clock,
+            sph.as_ref().map(|p| &p.particles),
+            if s.deformable { Some(&elements) } else { None },
+            &nodes.r,
         )?;
 
         let nn = s.projectile.nodes.len() as u64;
@@ -329,6 +338,7 @@ impl GpuStep {
             elements,
             fem,
             integrate,
+            timestep,
             acc,
             clock,
             status,
@@ -460,7 +470,7 @@ impl GpuStep {
             self.mark(pass, 6);
             self.mark(pass, 7);
         }
-        self.integrate.record_timestep(pass);
+        self.timestep.record(pass);
         self.mark(pass, 8);
     }
 
@@ -507,7 +517,7 @@ impl GpuStep {
                     self.mark(&mut pass, slot);
                 }
             }
-            self.integrate.record_integrate(&mut pass);
+            self.integrate.record(&mut pass);
             if let Some(sph) = &self.sph {
                 sph.neighbours.record_displacement(&mut pass);
             }

@@ -3,6 +3,7 @@
 //! Coordinates are (r, z): r ≥ 0 is the distance from the symmetry axis, z the axial position.
 //! The projectile flies along −z; the target's front face is z = 0.
 
+pub mod geometry;
 pub mod projectile;
 pub mod target;
 

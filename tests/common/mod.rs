@@ -29,7 +29,7 @@ pub fn assert_smallest_step_named(sim: &Simulation, err: &str) {
     let element = (0..e.len())
         .min_by(|&a, &b| e.dt[a].total_cmp(&e.dt[b]))
         .unwrap();
-    let step = |i| penetrate::cpu::integrate::particle_step(p, sph, i);
+    let step = |i| penetrate::cpu::timestep::particle_step(p, sph, i);
     let particle = (0..p.len())
         .min_by(|&a, &b| step(a).total_cmp(&step(b)))
         .unwrap();
