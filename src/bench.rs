@@ -131,7 +131,7 @@ pub fn run(
             let list_builds = builds(&mut sim).zip(builds_before).map(|(a, b)| a - b);
             let particles = sim.particles.len();
             let mut row = BenchRow {
-                backend: if sim.backend == "gpu" {
+                backend: if sim.backend() == "gpu" {
                     format!("gpu: {}", sim.adapter)
                 } else {
                     "cpu".into()

@@ -1,0 +1,241 @@
+//! The step on the CPU reference path, and what both backends share of it: the λ correction
+//! of the hits and the checks on the next Δt.
+
+use super::{Account, Pass, RunError, Simulation, Stepper};
+use crate::contact::{self, ContactBodies, Hit};
+use crate::cpu;
+use crate::gpu::step::Sync;
+use crate::state::Projectile;
+
+/// The CPU reference path: every pass in plain Rust on the host's state, which is therefore
+/// never stale.
+pub struct CpuStepper;
+
+impl Stepper for CpuStepper {
+    fn step(&mut self, sim: &mut Simulation) -> Result<(), RunError> {
+        sim.step_cpu()
+    }
+
+    fn sync(&mut self, _: &mut Simulation, _: Sync) -> Result<(), RunError> {
+        Ok(())
+    }
+
+    fn backend(&self) -> &'static str {
+        "cpu"
+    }
+}
+
+impl Simulation {
+    /// One explicit step on the CPU: velocities and positions, contact, then rates, stresses
+    /// and forces at the new configuration, then the next Δt.
+    pub(super) fn step_cpu(&mut self) -> Result<(), RunError> {
+        let dt = self.dt;
+        let origin = self.scene.origin_z();
+        let blowup = |b: cpu::integrate::Blowup, step: u64, time: f64| {
+            RunError::Unstable(format!(
+                "{} {} {} at (r {:.4e}, z {:.4e}) m, step {step}, t {time:.4e} s",
+                b.what,
+                b.index,
+                b.reason,
+                b.r,
+                b.z as f64 + origin
+            ))
+        };
+        if let Some(sph) = &self.sph {
+            // Impulse the fixed boundary exerts on the rest: minus what its particles would
+            // have gained from their neighbours.
+            let p = &self.particles;
+            self.account.boundary_impulse -= (0..p.len())
+                .filter(|&i| p.fixed[i] != 0)
+                .map(|i| p.mass[i] as f64 * p.az[i] as f64 * dt as f64)
+                .sum::<f64>();
+            cpu::integrate::particles(&mut self.particles, sph, dt, self.escape)
+                .map_err(|b| blowup(b, self.step, self.time))?;
+        }
+        let p_before = self.projectile_momentum();
+        let lost = cpu::integrate::nodes(&mut self.projectile.nodes, dt, self.wall_z, self.escape)
+            .map_err(|b| blowup(b, self.step, self.time))?;
+        if self.wall_z.is_some() {
+            self.account.wall_dissipated += lost;
+            let forces: f64 = self.projectile.nodes.fz.iter().map(|&f| f as f64).sum();
+            self.account.boundary_impulse +=
+                self.projectile_momentum() - p_before - forces * dt as f64;
+        }
+        if self.has(Pass::ContactDetect) {
+            let hits = self.detect();
+            self.last_hits = hits.len();
+            let p = &mut self.particles;
+            correct_contact(
+                &hits,
+                Slaves {
+                    r: &mut p.r,
+                    z: &mut p.z,
+                    vr: &mut p.vr,
+                    vz: &mut p.vz,
+                    mass: &p.mass,
+                },
+                &mut self.projectile,
+                &self.on_nose,
+                self.scene.contact.lambda as f32,
+                dt,
+                &mut self.account,
+            );
+        }
+        self.forces(dt)?;
+        self.time += dt as f64;
+        self.step += 1;
+        self.account.min_dt = self.account.min_dt.min(dt as f64);
+        self.account.max_dt = self.account.max_dt.max(dt as f64);
+        self.dt = self.stable_dt()?;
+        Ok(())
+    }
+
+    /// Rates, stresses and forces at the current configuration, advancing the material state by
+    /// `dt` (0 at start-up).
+    pub(super) fn forces(&mut self, dt: f32) -> Result<(), RunError> {
+        if let Some(sph) = &self.sph {
+            cpu::neighbours::run(
+                &mut self.grid,
+                &self.particles.r,
+                &self.particles.z,
+                cpu::integrate::support(sph),
+            );
+            cpu::sph_rates::run(&mut self.particles, &self.grid, sph);
+            cpu::concrete::run(&mut self.particles, sph, dt);
+            cpu::sph_forces::run(&mut self.particles, &self.grid, sph);
+        }
+        if self.has(Pass::FemStress) {
+            let p = &mut self.projectile;
+            let origin = self.scene.origin_z();
+            cpu::fem_stress::run(&mut p.elements, &p.nodes, &self.fem, dt).map_err(|inv| {
+                RunError::Unstable(format!(
+                    "element {} inverted at (r {:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
+                    inv.element,
+                    inv.r,
+                    inv.z as f64 + origin,
+                    self.step,
+                    self.time
+                ))
+            })?;
+            cpu::fem_forces::run(&mut p.nodes, &p.elements);
+            self.account.plastic_work += p
+                .elements
+                .plastic_work
+                .iter()
+                .map(|&w| w as f64)
+                .sum::<f64>();
+        }
+        Ok(())
+    }
+
+    pub(super) fn stable_dt(&mut self) -> Result<f32, RunError> {
+        let mut dt = f32::MAX;
+        if let Some(sph) = &self.sph {
+            dt = dt.min(cpu::timestep::particle_dt(&self.particles, sph));
+        }
+        if self.has(Pass::FemStress) {
+            dt = dt.min(cpu::timestep::element_dt(&self.projectile.elements));
+        }
+        let dt = dt * self.scene.run.cfl as f32;
+        self.check_dt(dt)?;
+        Ok(dt)
+    }
+
+    /// The next step must be positive, finite and bounded: it collapses when the mesh or the
+    /// lattice does, and nothing bounds it when every element has failed and opened
+    /// (`cpu::fem_stress::OPEN_RELATIVE_VOLUME`) and there is no target, or when the
+    /// projectile's waves are absurdly slow (a bar at rest with E = 1e-9 Pa).
+    pub(super) fn check_dt(&self, dt: f32) -> Result<(), RunError> {
+        if collapsed(dt) {
+            return Err(RunError::Unstable(format!(
+                "time step collapsed to {dt:e} s (the least stable step × run.cfl = {}; a step \
+                 under {MIN_STEP:e} s is taken as a collapse) at step {}, t {:.4e} s: {}",
+                crate::scene::number_text(self.scene.run.cfl),
+                self.step,
+                self.time,
+                self.smallest_step_site()
+            )));
+        }
+        if dt > 1.0 {
+            let e = &self.projectile.elements;
+            let why = if self.sph.is_none() && e.failed.iter().all(|&f| f != 0) {
+                "every element of the projectile has failed and opened, and there is no target"
+                    .to_string()
+            } else {
+                // Waves that slow: the site says which element, and its state.
+                self.smallest_step_site()
+            };
+            return Err(RunError::Unstable(format!(
+                "nothing limits the time step at step {}, t {:.4e} s: it would be {dt:e} s, \
+                 more than 1 s: {why}",
+                self.step, self.time
+            )));
+        }
+        Ok(())
+    }
+
+    pub(super) fn detect(&self) -> Vec<Hit> {
+        cpu::contact_detect::run(
+            &self.slaves,
+            &self.particles,
+            &self.projectile.nodes,
+            &self.projectile.masters,
+        )
+    }
+}
+
+/// The slaves' kinematics the λ correction moves: the particles' own arrays on the CPU path,
+/// the hits' slaves read back from the GPU on the GPU path (a hit's `slave` indexes them).
+pub(super) struct Slaves<'a> {
+    pub(super) r: &'a mut [f32],
+    pub(super) z: &'a mut [f32],
+    pub(super) vr: &'a mut [f32],
+    pub(super) vz: &'a mut [f32],
+    pub(super) mass: &'a [f32],
+}
+
+/// The smallest step a run goes on with (s): below it the run has collapsed.
+pub const MIN_STEP: f32 = 1.0e-13;
+
+/// A step too small to go on with (or not a number): the run has collapsed.
+pub(super) fn collapsed(dt: f32) -> bool {
+    !(dt.is_finite() && dt > MIN_STEP)
+}
+
+/// The λ correction of `hits` (physics.md §4) on `slaves` and the projectile's nodes; its
+/// dissipation and deepest penetration are booked in `account`.
+pub(super) fn correct_contact(
+    hits: &[Hit],
+    slaves: Slaves<'_>,
+    projectile: &mut Projectile,
+    on_nose: &[bool],
+    lambda: f32,
+    dt: f32,
+    account: &mut Account,
+) {
+    let Projectile {
+        nodes: n,
+        masters,
+        total_mass,
+        ..
+    } = projectile;
+    let mut bodies = ContactBodies {
+        slave_r: slaves.r,
+        slave_z: slaves.z,
+        slave_vr: slaves.vr,
+        slave_vz: slaves.vz,
+        slave_mass: slaves.mass,
+        node_r: &mut n.r,
+        node_z: &mut n.z,
+        node_vr: &mut n.vr,
+        node_vz: &mut n.vz,
+        node_mass: &n.mass,
+        node_on_axis: &n.on_axis,
+        dt,
+    };
+    let stats = contact::correct(hits, masters, on_nose, &mut bodies, lambda, *total_mass);
+    account.contact_dissipated += stats.dissipated;
+    account.contact_impulse += stats.impulse_z;
+    account.nose_impulse += stats.nose_impulse_z;
+    account.max_penetration = account.max_penetration.max(stats.max_penetration);
+}

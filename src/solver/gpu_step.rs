@@ -1,0 +1,150 @@
+//! The step on the GPU: up to contact detection there, the λ correction on the host, the rest
+//! there in the next submission (gpu::step).
+
+use super::cpu_step::{collapsed, correct_contact, Slaves};
+use super::{Account, Pass, RunError, Simulation, Stepper};
+use crate::contact::Hit;
+use crate::gpu::step::{GpuStep, Sync};
+
+/// The GPU path: the state lives on the GPU, and the host's copy is brought up to date by
+/// `sync`.
+pub struct GpuStepper {
+    pub(super) step: Box<GpuStep>,
+    /// The account when the GPU took over (its accumulators add to it).
+    pub(super) base: Account,
+}
+
+impl Stepper for GpuStepper {
+    fn step(&mut self, sim: &mut Simulation) -> Result<(), RunError> {
+        sim.step_gpu(&mut self.step)
+    }
+
+    fn sync(&mut self, sim: &mut Simulation, what: Sync) -> Result<(), RunError> {
+        let t = self
+            .step
+            .download(&mut sim.particles, &mut sim.projectile, what)
+            .map_err(|e| RunError::Unstable(format!("GPU: {e}")))?;
+        let base = self.base;
+        sim.account.boundary_impulse = base.boundary_impulse + t.boundary_impulse;
+        sim.account.wall_dissipated = base.wall_dissipated + t.wall_lost;
+        sim.account.plastic_work = base.plastic_work + t.plastic_work;
+        sim.dt = t.next_dt;
+        Ok(())
+    }
+
+    fn backend(&self) -> &'static str {
+        "gpu"
+    }
+
+    fn gpu(&mut self) -> Option<&mut GpuStep> {
+        Some(&mut self.step)
+    }
+
+    fn builds(&self) -> Option<u64> {
+        Some(self.step.builds)
+    }
+}
+
+impl Simulation {
+    /// One step on the GPU: up to contact detection there, the correction here, and the rest
+    /// there in the next submission (gpu::step).
+    pub(super) fn step_gpu(&mut self, g: &mut GpuStep) -> Result<(), RunError> {
+        let gpu_err = |e: String| RunError::Unstable(format!("GPU: {e}"));
+        let rb = g.advance().map_err(gpu_err)?;
+        let dt = rb.dt;
+        if collapsed(dt) || dt > 1.0 {
+            // The site of the collapse is read from the state: bring it back first.
+            g.download(&mut self.particles, &mut self.projectile, Sync::Full)
+                .map_err(gpu_err)?;
+        }
+        self.check_dt(dt)?;
+        {
+            let n = &mut self.projectile.nodes;
+            n.r = rb.node_r;
+            n.z = rb.node_z;
+            n.vr = rb.node_vr;
+            n.vz = rb.node_vz;
+        }
+        if let Some((what, index, reason)) = GpuStep::status_problem(&rb.status) {
+            let (r, z) = self.locate(g, what, index as usize);
+            return Err(RunError::Unstable(format!(
+                "{what} {index} {reason} at (r {r:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
+                self.world_z(z),
+                self.step,
+                self.time
+            )));
+        }
+        if self.has(Pass::ContactDetect) {
+            self.last_hits = rb.hits.len();
+            if !rb.hits.is_empty() {
+                let mut order: Vec<usize> = (0..rb.hits.len()).collect();
+                order.sort_by_key(|&k| rb.hits[k].0);
+                let slave = |k: usize| rb.hits[order[k]].0;
+                let data = |k: usize| rb.hit_data[order[k]];
+                let m = order.len();
+                let mut sr: Vec<f32> = (0..m).map(|k| data(k)[0]).collect();
+                let mut sz: Vec<f32> = (0..m).map(|k| data(k)[1]).collect();
+                let mut svr: Vec<f32> = (0..m).map(|k| data(k)[2]).collect();
+                let mut svz: Vec<f32> = (0..m).map(|k| data(k)[3]).collect();
+                let sm: Vec<f32> = (0..m)
+                    .map(|k| self.particles.mass[slave(k) as usize])
+                    .collect();
+                let hits: Vec<Hit> = (0..m)
+                    .map(|k| Hit {
+                        slave: k as u32,
+                        master: rb.hits[order[k]].1,
+                    })
+                    .collect();
+                correct_contact(
+                    &hits,
+                    Slaves {
+                        r: &mut sr,
+                        z: &mut sz,
+                        vr: &mut svr,
+                        vz: &mut svz,
+                        mass: &sm,
+                    },
+                    &mut self.projectile,
+                    &self.on_nose,
+                    self.scene.contact.lambda as f32,
+                    dt,
+                    &mut self.account,
+                );
+                let fixes: Vec<(u32, [f32; 4])> = (0..m)
+                    .map(|k| (slave(k), [sr[k], sz[k], svr[k], svz[k]]))
+                    .collect();
+                // How far the correction moved a slave (the neighbour lists' watch).
+                let moved = (0..m)
+                    .map(|k| (sr[k] - data(k)[0]).hypot(sz[k] - data(k)[1]))
+                    .fold(0.0f32, f32::max);
+                let n = &self.projectile.nodes;
+                g.correct(&fixes, moved, n);
+            }
+        }
+        self.time += dt as f64;
+        self.step += 1;
+        self.dt = dt;
+        self.account.min_dt = self.account.min_dt.min(dt as f64);
+        self.account.max_dt = self.account.max_dt.max(dt as f64);
+        Ok(())
+    }
+
+    /// Position of an entity the GPU flagged (the state is read back for it).
+    pub(super) fn locate(&mut self, g: &mut GpuStep, what: &str, index: usize) -> (f32, f32) {
+        if g.download(&mut self.particles, &mut self.projectile, Sync::Full)
+            .is_err()
+        {
+            return (f32::NAN, f32::NAN);
+        }
+        let n = &self.projectile.nodes;
+        match what {
+            "particle" => (self.particles.r[index], self.particles.z[index]),
+            "node" => (n.r[index], n.z[index]),
+            _ => {
+                let el = self.projectile.elements.nodes[index];
+                let c = |v: &[f32]| el.iter().map(|&k| v[k as usize]).sum::<f32>() / 3.0;
+                (c(&n.r), c(&n.z))
+            }
+        }
+    }
+}

@@ -1,0 +1,170 @@
+//! What a simulation writes: history rows, VTK frames and the summary.
+
+use std::path::Path;
+
+use super::{Pass, Simulation};
+use crate::cpu;
+use crate::output::history::Row;
+use crate::output::summary::{EnergySummary, Summary};
+use crate::output::vtk;
+
+impl Simulation {
+    pub(super) fn history_row(&self) -> Row {
+        let body = self.body_bounds();
+        Row {
+            time: self.time,
+            step: self.step,
+            dt: self.dt as f64,
+            depth: body.depth,
+            velocity: self.projectile_velocity(),
+            kinetic: self.kinetic_energy(),
+            internal: self.internal_target() + self.internal_projectile(),
+            contact_dissipated: self.account.contact_dissipated,
+            contact_impulse: self.account.contact_impulse,
+            nose_impulse: self.account.nose_impulse,
+            energy_error: self.energy_error(),
+            max_damage: self.max_damage(),
+            max_plastic_strain: self.max_plastic_strain(),
+            hits: self.last_hits,
+            damage_area: self.damage_area(),
+            plastic_work: self.account.plastic_work,
+            checkerboard: self.projectile.elements.max_checkerboard() as f64,
+            length: body.length,
+            radius: body.radius,
+        }
+    }
+
+    /// Write one VTK frame of the target and the projectile.
+    pub fn write_frame(
+        &self,
+        dir: &Path,
+        frame: usize,
+        pvd: &mut vtk::Collection,
+    ) -> std::io::Result<()> {
+        let p = &self.particles;
+        let world = |z: &[f32]| -> Vec<f32> { z.iter().map(|&z| self.world_z(z) as f32).collect() };
+        if !p.is_empty() {
+            let name = format!("target_{frame:05}.vtu");
+            let speed: Vec<f32> = (0..p.len()).map(|i| p.vr[i].hypot(p.vz[i])).collect();
+            vtk::write_vtu(
+                &dir.join(&name),
+                &p.r,
+                &world(&p.z),
+                None,
+                &[
+                    ("pressure", &p.p),
+                    ("density", &p.rho),
+                    ("damage", &p.damage),
+                    ("plastic_strain", &p.eps_p),
+                    ("speed", &speed),
+                    ("v_r", &p.vr),
+                    ("v_z", &p.vz),
+                    ("energy", &p.energy),
+                    ("strain_energy", &p.strain_energy),
+                    ("mass", &p.mass),
+                ],
+                &[],
+            )?;
+            pvd.add(self.time, 0, &name)?;
+        }
+        let n = &self.projectile.nodes;
+        let e = &self.projectile.elements;
+        let name = format!("projectile_{frame:05}.vtu");
+        let seq: Vec<f32> = (0..e.len())
+            .map(|k| cpu::deviator::von_mises(&[e.s_rr[k], e.s_zz[k], e.s_rz[k], e.s_tt[k]]))
+            .collect();
+        let failed: Vec<f32> = e.failed.iter().map(|&f| f as f32).collect();
+        vtk::write_vtu(
+            &dir.join(&name),
+            &n.r,
+            &world(&n.z),
+            Some(&e.nodes),
+            &[("v_r", &n.vr), ("v_z", &n.vz)],
+            &[
+                ("damage", &e.damage),
+                ("failed", &failed),
+                ("plastic_strain", &e.eps_p),
+                ("pressure", &e.p),
+                ("von_mises", &seq),
+                ("temperature", &e.temperature),
+            ],
+        )?;
+        pvd.add(self.time, 1, &name)
+    }
+
+    /// World z of a model position ([`Scene::origin_z`]).
+    pub(super) fn world_z(&self, z: f32) -> f64 {
+        z as f64 + self.scene.origin_z()
+    }
+
+    /// Passes that ran, with the side they ran on.
+    pub fn pass_names(&self, backend: &str) -> Vec<String> {
+        self.passes
+            .iter()
+            .map(|p| {
+                format!(
+                    "{}:{}",
+                    p.name(),
+                    if *p == Pass::ContactCorrect {
+                        "cpu"
+                    } else {
+                        backend
+                    }
+                )
+            })
+            .collect()
+    }
+
+    pub fn summary(&self, status: &str, stop_reason: &str, wall_s: f64) -> Summary {
+        let body = self.body_bounds();
+        let a = &self.account;
+        Summary {
+            scene: self.scene.name.clone(),
+            status: status.to_string(),
+            stop_reason: stop_reason.to_string(),
+            backend: self.backend().into(),
+            adapter: self.adapter.clone(),
+            solver_build: crate::output::summary::build_id().into(),
+            depth_m: body.depth,
+            projectile_velocity_m_s: self.projectile_velocity(),
+            max_damage: self.max_damage(),
+            max_damage_shank: self.max_damage_shank(),
+            max_plastic_strain: self.max_plastic_strain(),
+            max_plastic_strain_shank: self.max_plastic_strain_shank(),
+            checkerboard_pa: self.projectile.elements.max_checkerboard() as f64,
+            final_length_m: body.length,
+            max_radius_m: body.radius,
+            contact_impulse_n_s: a.contact_impulse,
+            nose_impulse_n_s: a.nose_impulse,
+            time_s: self.time,
+            steps: self.step,
+            particles: self.particles.len(),
+            elements: self.projectile.elements.len(),
+            nodes: self.projectile.nodes.len(),
+            projectile_mass_kg: self.projectile.total_mass,
+            wall_s,
+            energy_error: self.energy_error(),
+            momentum_error: self.momentum_error(),
+            energy: EnergySummary {
+                initial_kinetic: a.initial_kinetic,
+                kinetic: self.kinetic_energy(),
+                internal_projectile: self.internal_projectile(),
+                internal_target: self.internal_target(),
+                strain_energy_target: self.strain_energy_target(),
+                plastic_work_projectile: a.plastic_work,
+                contact_dissipated: a.contact_dissipated,
+                wall_dissipated: a.wall_dissipated,
+            },
+            passes: self.pass_names(self.backend()),
+            min_dt_s: if a.min_dt == f64::MAX { 0.0 } else { a.min_dt },
+            max_dt_s: a.max_dt,
+            max_slave_penetration_m: a.max_penetration as f64,
+            slaves_inside: a.slaves_inside,
+            nonfinite_values: self.nonfinite_values(),
+            particles_at_density_floor: self.particles_at_density_floor(),
+            max_speed_m_s: self.max_speed(),
+            max_residual_penetration_m: a.max_residual_penetration as f64,
+            neighbour_list_builds: self.gpu_builds(),
+        }
+    }
+}

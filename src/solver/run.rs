@@ -1,0 +1,301 @@
+//! The run loop of `penetrate run`: stop conditions, history rows and frames as the run goes,
+//! and outputs kept whole when it stops early.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::build::attach;
+use super::{RunError, Simulation};
+use crate::mesh;
+use crate::output;
+use crate::output::history::History;
+use crate::output::progress::Progress;
+use crate::output::summary::Summary;
+use crate::output::vtk;
+use crate::scene::{Backend, Scene};
+
+/// Options of `penetrate run`.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub out: PathBuf,
+    pub quiet: bool,
+    /// Write VTK frames (tests turn them off).
+    pub vtk: bool,
+    /// Overrides the scene's `run.backend`.
+    pub backend: Option<Backend>,
+    /// Part of the GPU adapter's name (`--adapter`).
+    pub adapter: Option<String>,
+}
+
+impl RunOptions {
+    /// CPU or scene backend, progress shown, VTK frames on.
+    pub fn new(out: PathBuf) -> RunOptions {
+        RunOptions {
+            out,
+            quiet: false,
+            vtk: true,
+            backend: None,
+            adapter: None,
+        }
+    }
+}
+
+/// The resolved scene a run writes into its output folder.
+pub const SCENE_FILE: &str = "scene.toml";
+
+/// The result of a run: its summary, and whether it ended normally.
+pub struct RunOutcome {
+    pub summary: Summary,
+    pub ok: bool,
+}
+
+/// Run a scene to its end, writing the outputs as it goes. An unstable run stops, says what and
+/// where in `status`, and keeps what it had written. So does a run whose outputs the disk stops
+/// taking, as far as the disk lets it: its files end whole, `summary.json` is written where it
+/// fits, and it returns [`RunError::Io`] saying where, when and what was kept.
+pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
+    let io = |e: std::io::Error| RunError::Io(e.to_string());
+    output::create_folder(&opts.out).map_err(RunError::Io)?;
+    output::clear_previous_run(&opts.out).map_err(|e| io(output::named(&opts.out, e)))?;
+    // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
+    let resolved = scene.resolved_table();
+    output::write_whole(&opts.out.join(SCENE_FILE), resolved.as_bytes()).map_err(io)?;
+    let started = Instant::now();
+    let backend = opts.backend.unwrap_or(scene.run.backend);
+    let history_file = opts.out.join("history.csv");
+    let mut sim = Simulation::assemble(scene)?;
+    if let Err(e) = sim.start() {
+        // The scene as built cannot take a step (its first forces or Δt, on the CPU): the
+        // state at rest and why, as any unstable run leaves them.
+        let mut history = History::create(&history_file).map_err(io)?;
+        history.write(&sim.history_row()).map_err(io)?;
+        history.flush().map_err(io)?;
+        let status = format!("{e} (before the first step, evaluated on the CPU)");
+        let summary = sim.summary(&status, "", started.elapsed().as_secs_f64());
+        write_summary(&opts.out, &summary).map_err(io)?;
+        return Ok(RunOutcome { summary, ok: false });
+    }
+    attach(&mut sim, backend, opts.adapter.as_deref())?;
+    warn_from_estimate(scene, &opts.out, opts.vtk);
+    let mut history = History::create(&history_file).map_err(io)?;
+    let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
+    let mut frame = 0;
+    // The step of the last frame written: the last frame is not written twice.
+    let mut frame_step = None;
+    if opts.vtk {
+        sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+        frame += 1;
+        frame_step = Some(sim.step);
+    }
+    history.write(&sim.history_row()).map_err(io)?;
+    // The step of the last row written: the last row is not written twice.
+    let mut history_step = sim.step;
+    // Set once the disk refused an output: the run stops there.
+    let mut write_failed = false;
+    let mut next_history = scene.run.history_interval;
+    let mut next_frame = if scene.run.output_interval > 0.0 {
+        scene.run.output_interval
+    } else {
+        f64::MAX
+    };
+    let mut progress = Progress::new(scene.run.end_time, opts.quiet);
+    let (status, reason, ok) = loop {
+        if crate::interrupt::requested() {
+            break (
+                format!(
+                    "interrupted (Ctrl-C or SIGTERM) at step {}, t {:.4e} s",
+                    sim.step, sim.time
+                ),
+                String::new(),
+                false,
+            );
+        }
+        if let Some(reason) = sim.stop_reason() {
+            break ("completed".to_string(), reason.to_string(), true);
+        }
+        if sim.step >= scene.run.max_steps {
+            break (
+                format!(
+                    "stopped: max_steps = {} reached at t {:.4e} s",
+                    scene.run.max_steps, sim.time
+                ),
+                String::new(),
+                false,
+            );
+        }
+        if let Err(e) = sim.step() {
+            break (e.to_string(), String::new(), false);
+        }
+        let frame_due = opts.vtk && sim.time >= next_frame;
+        let synced = if frame_due {
+            sim.sync()
+        } else if sim.time >= next_history {
+            sim.sync_history()
+        } else {
+            Ok(())
+        };
+        if let Err(e) = synced {
+            break (e.to_string(), String::new(), false);
+        }
+        if sim.time >= next_history {
+            sim.check_slaves_inside();
+            let row = sim.history_row();
+            if let Err(e) = history.write(&row) {
+                write_failed = true;
+                break (output_failed(&sim, &e), String::new(), false);
+            }
+            history_step = sim.step;
+            next_history += scene.run.history_interval;
+            progress.update(sim.time, sim.step, row.depth, row.velocity);
+            if let Err(e) = sim.energy_guard(row.energy_error) {
+                break (e.to_string(), String::new(), false);
+            }
+        }
+        if frame_due {
+            if let Err(e) = sim.write_frame(&opts.out, frame, &mut pvd) {
+                write_failed = true;
+                break (output_failed(&sim, &e), String::new(), false);
+            }
+            frame += 1;
+            frame_step = Some(sim.step);
+            next_frame += scene.run.output_interval;
+        }
+    };
+    progress.finish();
+    // A run that stopped for another reason keeps that reason alone.
+    let checked = sim
+        .sync()
+        .and_then(|()| if ok { sim.check_energy() } else { Ok(()) });
+    let (status, reason, ok) = match checked {
+        Ok(()) => (status, reason, ok),
+        Err(e) if ok => (e.to_string(), String::new(), false),
+        // Keep what stopped the run first.
+        Err(e) => (format!("{status}; then {e}"), reason, false),
+    };
+    sim.check_slaves_inside();
+    let mut status = status;
+    if !write_failed {
+        // The last row and frame; after a refused write the disk has had its say.
+        let last = match history_step != sim.step {
+            true => history.write(&sim.history_row()),
+            false => Ok(()),
+        }
+        .and_then(|()| history.flush())
+        .and_then(|()| match opts.vtk && frame_step != Some(sim.step) {
+            true => sim.write_frame(&opts.out, frame, &mut pvd),
+            false => Ok(()),
+        });
+        if let Err(e) = last {
+            write_failed = true;
+            status = format!("{status}; then {}", output_failed(&sim, &e));
+        }
+    }
+    let summary = sim.summary(&status, &reason, started.elapsed().as_secs_f64());
+    let saved = write_summary(&opts.out, &summary);
+    if write_failed {
+        let kept = match saved {
+            Ok(()) => ", with summary.json".to_string(),
+            Err(e) => format!("; summary.json could not be written: {e}"),
+        };
+        return Err(RunError::Io(format!(
+            "{status}; what was written is kept in {}{kept}",
+            opts.out.display()
+        )));
+    }
+    saved.map_err(io)?;
+    Ok(RunOutcome { summary, ok })
+}
+
+/// The status of a run the disk stopped: when, and the write refused.
+pub(super) fn output_failed(sim: &Simulation, e: &std::io::Error) -> String {
+    format!(
+        "output failed at step {}, t {:.4e} s: {e}",
+        sim.step, sim.time
+    )
+}
+
+pub(super) fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {
+    let json = serde_json::to_string_pretty(summary).map_err(std::io::Error::other)?;
+    output::write_whole(&out.join("summary.json"), (json + "\n").as_bytes())
+}
+
+/// Says on stderr what `check`'s estimate foresees going wrong before the run starts: more
+/// steps than `run.max_steps` to `run.end_time`, and outputs that overfill the disk.
+pub(super) fn warn_from_estimate(scene: &Scene, out: &Path, vtk: bool) {
+    let Ok(mesh) = mesh::projectile::build(&scene.model_projectile()) else {
+        return;
+    };
+    let e = crate::estimate::estimate(scene, &mesh);
+    if let Some(line) = steps_warning(scene, &e) {
+        eprintln!("{line}");
+    }
+    if let Some(free) = output::free_bytes(out) {
+        warn_if_outputs_overfill(&e, out, vtk, free);
+    }
+}
+
+/// The warning for a run whose estimated steps to `run.end_time` exceed `run.max_steps` (a
+/// sliver in the projectile's mesh, from a feature far smaller than its elements, can ask for
+/// billions), naming what sets the step; `None` when the cap is not in reach. The estimate
+/// takes the concrete at its stiffest, so a run may take fewer steps than it says.
+pub(super) fn steps_warning(scene: &Scene, e: &crate::estimate::Estimate) -> Option<String> {
+    if e.steps <= scene.run.max_steps {
+        return None;
+    }
+    let by = if e.dt_fem <= e.dt_sph {
+        format!(
+            "the projectile mesh's smallest element, {:.3e} m high ({:.2e} of projectile.element_size)",
+            e.fem_altitude,
+            e.fem_altitude / scene.projectile.element_size
+        )
+    } else {
+        "the concrete's particles (target.spacing and its stiffness)".to_string()
+    };
+    Some(format!(
+        "penetrate: warning: this run needs {} steps to run.end_time = {} s at check's estimated step of {:.3e} s, set by {by}; run.max_steps = {} would stop it near t ≈ {:.3e} s",
+        e.steps_text(),
+        crate::scene::number_text(scene.run.end_time),
+        e.dt,
+        scene.run.max_steps,
+        scene.run.max_steps as f64 * e.dt
+    ))
+}
+
+/// Says on stderr when the frames (unless `--no-vtk`) and the history rows a run writes, by
+/// `check`'s estimate, need more than the `free` bytes where they go: such a run stops when
+/// the disk is full (exit code 3).
+pub(super) fn warn_if_outputs_overfill(
+    e: &crate::estimate::Estimate,
+    out: &Path,
+    vtk: bool,
+    free: u64,
+) {
+    let frame_bytes = if vtk { e.frames_bytes() } else { 0.0 };
+    if frame_bytes + e.history_bytes() > free as f64 {
+        use crate::estimate::MIB;
+        let rows = format!(
+            "{} history rows, ≈ {:.1} MiB,",
+            e.history_rows,
+            e.history_bytes() / MIB
+        );
+        let what = if vtk {
+            format!(
+                "{} frames, ≈ {:.1} MiB of ASCII VTU, and {rows}",
+                e.frames,
+                frame_bytes / MIB
+            )
+        } else {
+            rows
+        };
+        let remedy = if vtk {
+            "raise run.output_interval or run.history_interval, or pass --no-vtk"
+        } else {
+            "raise run.history_interval"
+        };
+        eprintln!(
+            "penetrate: warning: this run may write {what} and {} has {:.1} MiB free: the run stops (exit code 3) when the disk is full; {remedy}",
+            out.display(),
+            free as f64 / MIB
+        );
+    }
+}
