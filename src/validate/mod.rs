@@ -438,12 +438,8 @@ impl Context<'_> {
         header: &[&str],
         rows: &[Vec<String>],
     ) -> Result<String, ValidateError> {
-        let mut text = sweep::csv_line(header);
-        for r in rows {
-            text += &sweep::csv_line(r);
-        }
         let path = self.dir(section).join(file);
-        std::fs::write(&path, text)
+        crate::output::write_csv(&path, header, rows)
             .map_err(|e| ValidateError::Io(format!("{}: {e}", path.display())))?;
         Ok(format!("[{file}]({}/{file})", section.name()))
     }
