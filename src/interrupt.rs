@@ -17,24 +17,14 @@ pub fn requested() -> bool {
 /// Exit code of an interrupted command (128 + SIGINT, as a shell reports it).
 pub const EXIT_CODE: u8 = 130;
 
-/// Catch SIGINT and SIGTERM for the rest of the process (Unix; elsewhere the default stays).
-pub fn install() {
-    #[cfg(unix)]
-    {
-        let handler = on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
-        // SAFETY: the handler only swaps an atomic flag and may call `_exit`, both
-        // async-signal-safe.
-        unsafe {
-            libc::signal(libc::SIGINT, handler);
-            libc::signal(libc::SIGTERM, handler);
+/// Catch SIGINT and SIGTERM for the rest of the process. An error (a handler already set, or
+/// none can be on this platform) leaves the default: a signal ends the process at once.
+pub fn install() -> Result<(), String> {
+    // ctrlc calls this on its own thread, not in the signal handler, so exiting from it is safe.
+    ctrlc::set_handler(|| {
+        if REQUESTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(EXIT_CODE.into());
         }
-    }
-}
-
-#[cfg(unix)]
-extern "C" fn on_signal(_: libc::c_int) {
-    if REQUESTED.swap(true, Ordering::Relaxed) {
-        // SAFETY: `_exit` is async-signal-safe and ends the process without unwinding.
-        unsafe { libc::_exit(EXIT_CODE as libc::c_int) }
-    }
+    })
+    .map_err(|e| format!("cannot catch Ctrl-C and SIGTERM ({e})"))
 }

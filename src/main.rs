@@ -183,7 +183,10 @@ enum BackendArg {
 /// could not be written.
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    penetrate::interrupt::install();
+    if let Err(e) = penetrate::interrupt::install() {
+        // The command still runs; only a stop by signal loses its outputs.
+        eprintln!("penetrate: {e}; a signal ends the process without its outputs");
+    }
     match cli.command {
         Command::Sweep {
             case,

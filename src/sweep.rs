@@ -390,7 +390,7 @@ pub fn sweep(
     let planned_runs = planned.len();
     let records = run_set(planned, settings, progress)?;
     let path = out.join("sweep.csv");
-    std::fs::write(&path, sweep_csv(vary, &records))
+    write_sweep_csv(&path, vary, &records)
         .map_err(|e| SweepError::Io(format!("{}: {e}", path.display())))?;
     if crate::interrupt::requested() {
         return Err(SweepError::Interrupted(format!(
@@ -451,32 +451,21 @@ fn summary_fields(r: &RunRecord) -> Vec<String> {
     }
 }
 
-fn sweep_csv(vary: &Vary, records: &[RunRecord]) -> String {
+/// `sweep.csv`: the varied value and the summary fields of each run, to `path`.
+fn write_sweep_csv(path: &Path, vary: &Vary, records: &[RunRecord]) -> std::io::Result<()> {
     let mut header = vec![vary.key.clone()];
     header.extend(SUMMARY_COLUMNS.iter().map(|c| c.to_string()));
-    let mut text = csv_line(&header);
-    for (v, r) in vary.values.iter().zip(records) {
-        let mut row = vec![scene::number_text(*v)];
-        row.extend(summary_fields(r));
-        text += &csv_line(&row);
-    }
-    text
-}
-
-/// One CSV line (RFC 4180 quoting where a field needs it), with its newline.
-pub fn csv_line<S: AsRef<str>>(fields: &[S]) -> String {
-    let quoted: Vec<String> = fields
+    let rows: Vec<Vec<String>> = vary
+        .values
         .iter()
-        .map(|f| {
-            let f = f.as_ref();
-            if f.contains([',', '"', '\n', '\r']) {
-                format!("\"{}\"", f.replace('"', "\"\""))
-            } else {
-                f.to_string()
-            }
+        .zip(records)
+        .map(|(v, r)| {
+            let mut row = vec![scene::number_text(*v)];
+            row.extend(summary_fields(r));
+            row
         })
         .collect();
-    quoted.join(",") + "\n"
+    crate::output::write_csv(path, &header, &rows)
 }
 
 #[cfg(test)]
@@ -603,13 +592,5 @@ mod tests {
         ] {
             assert!(!vary.clashes_with(set), "{set}");
         }
-    }
-
-    #[test]
-    fn csv_fields_with_commas_are_quoted() {
-        assert_eq!(
-            csv_line(&["a", "b,c", "say \"x\""]),
-            "a,\"b,c\",\"say \"\"x\"\"\"\n"
-        );
     }
 }

@@ -1,9 +1,10 @@
 //! `history.csv`: one row per history interval.
 
-use std::fmt::Write as _;
 use std::fs::File;
 use std::io::{self, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
+
+use serde::{Serialize, Serializer};
 
 /// One row of the time series.
 #[derive(Clone, Copy, Debug, Default)]
@@ -37,7 +38,108 @@ pub struct Row {
     pub radius: f64,
 }
 
-pub const HEADER: &str = "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N,nose_impulse_Ns,nose_force_N,projectile_length_m,projectile_radius_m";
+/// A row as written: its fields' names are the file's column names, in order. Floats are
+/// written as Rust's `{:e}` writes them (the csv crate's own float form differs), so a run's
+/// file keeps the bytes it has always had.
+#[derive(Default, Serialize)]
+struct Record {
+    #[serde(rename = "time_s", serialize_with = "exp")]
+    time: f64,
+    step: u64,
+    #[serde(rename = "dt_s", serialize_with = "exp")]
+    dt: f64,
+    #[serde(rename = "depth_m", serialize_with = "exp")]
+    depth: f64,
+    #[serde(rename = "projectile_velocity_m_s", serialize_with = "exp")]
+    velocity: f64,
+    #[serde(rename = "kinetic_J", serialize_with = "exp")]
+    kinetic: f64,
+    #[serde(rename = "internal_J", serialize_with = "exp")]
+    internal: f64,
+    #[serde(rename = "contact_dissipated_J", serialize_with = "exp")]
+    contact_dissipated: f64,
+    #[serde(serialize_with = "exp")]
+    energy_error: f64,
+    #[serde(serialize_with = "exp")]
+    max_damage: f64,
+    #[serde(serialize_with = "exp")]
+    max_plastic_strain: f64,
+    hits: usize,
+    #[serde(rename = "damage_area_m2", serialize_with = "exp")]
+    damage_area: f64,
+    #[serde(rename = "plastic_work_J", serialize_with = "exp")]
+    plastic_work: f64,
+    #[serde(rename = "checkerboard_Pa", serialize_with = "exp")]
+    checkerboard: f64,
+    #[serde(rename = "contact_impulse_Ns", serialize_with = "exp")]
+    contact_impulse: f64,
+    #[serde(rename = "contact_force_N", serialize_with = "exp")]
+    contact_force: f64,
+    #[serde(rename = "nose_impulse_Ns", serialize_with = "exp")]
+    nose_impulse: f64,
+    #[serde(rename = "nose_force_N", serialize_with = "exp")]
+    nose_force: f64,
+    #[serde(rename = "projectile_length_m", serialize_with = "exp")]
+    length: f64,
+    #[serde(rename = "projectile_radius_m", serialize_with = "exp")]
+    radius: f64,
+}
+
+fn exp<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{x:e}"))
+}
+
+/// The header line of `history.csv` (without its newline): [`Record`]'s field names.
+pub fn header() -> io::Result<String> {
+    // The crate writes a header only before a first record: write one and keep the header.
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.serialize(Record::default())?;
+    let text = w.into_inner().map_err(|e| e.into_error())?;
+    let text =
+        String::from_utf8(text).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+    Ok(text.lines().next().unwrap_or_default().to_string())
+}
+
+/// Columns of a CSV file with a header line (`history.csv`), by header name, as numbers, from
+/// `data`; errors name `path` and the line (counted as the csv crate does: without blank
+/// lines, which a history has none of).
+pub fn read_columns(
+    path: &Path,
+    data: impl io::Read,
+    columns: &[&str],
+) -> Result<Vec<Vec<f64>>, String> {
+    let file = path.display();
+    // Flexible: a short row is named below with its missing column, not as a length mismatch.
+    let mut reader = csv::ReaderBuilder::new().flexible(true).from_reader(data);
+    let header = reader
+        .headers()
+        .map_err(|e| format!("{file}: {e}"))?
+        .clone();
+    let index: Vec<usize> = columns
+        .iter()
+        .map(|c| {
+            header
+                .iter()
+                .position(|h| h == *c)
+                .ok_or_else(|| format!("{file}: no column {c}"))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut out = vec![Vec::new(); columns.len()];
+    for record in reader.records() {
+        let record = record.map_err(|e| format!("{file}: {e}"))?;
+        let line = record.position().map_or(0, |p| p.line());
+        for ((col, &k), name) in out.iter_mut().zip(&index).zip(columns) {
+            let field = record
+                .get(k)
+                .ok_or_else(|| format!("{file}:{line}: the row has no `{name}` field"))?;
+            let x = field
+                .parse::<f64>()
+                .map_err(|_| format!("{file}:{line}: {name} = `{field}` is not a number"))?;
+            col.push(x);
+        }
+    }
+    Ok(out)
+}
 
 /// Rows gathered before they go to the file together.
 const CHUNK: usize = 8192;
@@ -48,7 +150,8 @@ const CHUNK: usize = 8192;
 pub struct History {
     file: File,
     path: PathBuf,
-    pending: String,
+    /// Whole rows not yet in the file.
+    pending: Vec<u8>,
     /// Bytes of whole rows in the file.
     written: u64,
     /// The last row written and its mean contact and nose forces (N).
@@ -61,7 +164,7 @@ impl History {
         let mut history = History {
             file,
             path: path.to_path_buf(),
-            pending: format!("{HEADER}\n"),
+            pending: format!("{}\n", header()?).into_bytes(),
             written: 0,
             last: None,
         };
@@ -85,31 +188,34 @@ impl History {
             None => (0.0, 0.0),
         };
         self.last = Some((*r, force, nose_force));
-        let _ = writeln!(
-            self.pending,
-            "{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-            r.time,
-            r.step,
-            r.dt,
-            r.depth,
-            r.velocity,
-            r.kinetic,
-            r.internal,
-            r.contact_dissipated,
-            r.energy_error,
-            r.max_damage,
-            r.max_plastic_strain,
-            r.hits,
-            r.damage_area,
-            r.plastic_work,
-            r.checkerboard,
-            r.contact_impulse,
-            force,
-            r.nose_impulse,
+        // The row goes into `pending` through a writer that owns it for the one row.
+        let mut rows = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(std::mem::take(&mut self.pending));
+        rows.serialize(Record {
+            time: r.time,
+            step: r.step,
+            dt: r.dt,
+            depth: r.depth,
+            velocity: r.velocity,
+            kinetic: r.kinetic,
+            internal: r.internal,
+            contact_dissipated: r.contact_dissipated,
+            energy_error: r.energy_error,
+            max_damage: r.max_damage,
+            max_plastic_strain: r.max_plastic_strain,
+            hits: r.hits,
+            damage_area: r.damage_area,
+            plastic_work: r.plastic_work,
+            checkerboard: r.checkerboard,
+            contact_impulse: r.contact_impulse,
+            contact_force: force,
+            nose_impulse: r.nose_impulse,
             nose_force,
-            r.length,
-            r.radius
-        );
+            length: r.length,
+            radius: r.radius,
+        })?;
+        self.pending = rows.into_inner().map_err(|e| e.into_error())?;
         if self.pending.len() >= CHUNK {
             self.flush()?;
         }
@@ -122,7 +228,7 @@ impl History {
         if self.pending.is_empty() {
             return Ok(());
         }
-        let sent = self.file.write_all(self.pending.as_bytes());
+        let sent = self.file.write_all(&self.pending);
         let len = self.pending.len() as u64;
         self.pending.clear();
         match sent {
@@ -143,5 +249,56 @@ impl Drop for History {
     /// Rows still gathered when a run ends by an error go out too, as far as the disk takes them.
     fn drop(&mut self) {
         let _ = self.flush();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The columns keep their names and order, and a history reads back by them, floats in
+    /// Rust's exponent form.
+    #[test]
+    fn a_history_reads_back_by_column_name() {
+        assert_eq!(
+            header().unwrap(),
+            "time_s,step,dt_s,depth_m,projectile_velocity_m_s,kinetic_J,internal_J,\
+             contact_dissipated_J,energy_error,max_damage,max_plastic_strain,hits,damage_area_m2,\
+             plastic_work_J,checkerboard_Pa,contact_impulse_Ns,contact_force_N,nose_impulse_Ns,\
+             nose_force_N,projectile_length_m,projectile_radius_m"
+        );
+        let path =
+            std::env::temp_dir().join(format!("penetrate-history-{}.csv", std::process::id()));
+        let mut history = History::create(&path).unwrap();
+        for (k, time) in [0.0, 1e-6, 2e-6].into_iter().enumerate() {
+            let row = Row {
+                time,
+                step: k as u64,
+                contact_impulse: 0.5 * k as f64,
+                ..Row::default()
+            };
+            history.write(&row).unwrap();
+        }
+        drop(history);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.lines().nth(2).unwrap().starts_with("1e-6,1,0e0,"),
+            "{text}"
+        );
+        let columns = read_columns(
+            &path,
+            text.as_bytes(),
+            &["contact_force_N", "time_s", "step"],
+        )
+        .unwrap();
+        assert_eq!(
+            columns,
+            vec![
+                vec![0.0, 5e5, 5e5],
+                vec![0.0, 1e-6, 2e-6],
+                vec![0.0, 1.0, 2.0]
+            ]
+        );
+        let _ = std::fs::remove_file(&path);
     }
 }

@@ -54,6 +54,24 @@ pub fn write_whole(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> 
     })
 }
 
+/// Writes `header` and `rows` to `path` as CSV, a field quoted where it needs it (a run's
+/// status or folder may hold commas or quotes). Rows are not held to the header's length.
+pub fn write_csv<H: AsRef<[u8]>, F: AsRef<[u8]>>(
+    path: &std::path::Path,
+    header: &[H],
+    rows: &[Vec<F>],
+) -> std::io::Result<()> {
+    let mut w = csv::WriterBuilder::new()
+        .flexible(true)
+        .from_writer(Vec::new());
+    w.write_record(header)?;
+    for row in rows {
+        w.write_record(row)?;
+    }
+    let bytes = w.into_inner().map_err(|e| e.into_error())?;
+    std::fs::write(path, bytes)
+}
+
 /// The error `e` met on `path`, naming it.
 pub fn named(path: &std::path::Path, e: std::io::Error) -> std::io::Error {
     std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
@@ -93,6 +111,24 @@ pub fn fixed(v: f64, decimals: usize) -> String {
 
 #[cfg(test)]
 mod tests {
+    /// Fields with commas, quotes and newlines come back as they went in.
+    #[test]
+    fn csv_fields_round_trip() {
+        let path = std::env::temp_dir().join(format!("penetrate-csv-{}.csv", std::process::id()));
+        let row = vec!["a", "b,c", "say \"x\"", "two\nlines", ""];
+        super::write_csv(
+            &path,
+            &["k", "l", "m", "n", "o"],
+            std::slice::from_ref(&row),
+        )
+        .unwrap();
+        let mut reader = csv::Reader::from_path(&path).unwrap();
+        assert_eq!(reader.headers().unwrap(), vec!["k", "l", "m", "n", "o"]);
+        let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+        assert_eq!(rows, vec![csv::StringRecord::from(row)]);
+        let _ = std::fs::remove_file(&path);
+    }
+
     #[test]
     fn fixed_drops_the_sign_of_a_rounded_zero() {
         assert_eq!(super::fixed(-0.004, 1), "0.0");

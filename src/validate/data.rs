@@ -87,18 +87,29 @@ impl Table {
                 e.utf8_error().valid_up_to()
             ))
         })?;
-        let split =
-            |s: &str| -> Vec<String> { s.split(',').map(|f| f.trim().to_string()).collect() };
+        // Line by line, so errors name the line: the csv crate's record positions leave out
+        // the comment and blank lines it skips.
+        let fields = |line: &str, number: usize| -> Result<Vec<String>, ValidateError> {
+            let mut reader = csv::ReaderBuilder::new()
+                .has_headers(false)
+                .trim(csv::Trim::All)
+                .from_reader(line.as_bytes());
+            let mut record = csv::StringRecord::new();
+            reader.read_record(&mut record).map_err(|e| {
+                ValidateError::Input(format!("{file}:{number}: not a CSV row ({e})"))
+            })?;
+            Ok(record.iter().map(str::to_string).collect())
+        };
         let mut columns = Vec::new();
         let mut rows = Vec::new();
         for (i, line) in text.lines().enumerate() {
             let line = line.trim();
             if let Some(comment) = line.strip_prefix('#') {
                 if rows.is_empty() && comment.contains(',') {
-                    columns = split(comment);
+                    columns = fields(comment, i + 1)?;
                 }
             } else if !line.is_empty() {
-                rows.push((i + 1, split(line)));
+                rows.push((i + 1, fields(line, i + 1)?));
             }
         }
         if columns.is_empty() || rows.is_empty() {
@@ -209,6 +220,15 @@ mod tests {
             e.contains("forrestal1994.csv:2: velocity_m_s = `fast`"),
             "{e}"
         );
+        // A quoted field may hold a comma.
+        std::fs::write(
+            dir.join(TAYLOR_FILE),
+            "# material,diameter_mm,length_mm,velocity_m_s,final_length_mm,mushroom_diameter_mm\n\
+             \"steel, 4340\",1,2,3,4,5\n",
+        )
+        .unwrap();
+        assert_eq!(taylor(&dir).unwrap()[0].material, "steel, 4340");
+        std::fs::remove_file(dir.join(TAYLOR_FILE)).unwrap();
         let e = taylor(&dir).unwrap_err().to_string();
         assert!(
             e.contains("cannot read the data file") && e.contains("--data"),

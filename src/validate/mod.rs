@@ -438,12 +438,8 @@ impl Context<'_> {
         header: &[&str],
         rows: &[Vec<String>],
     ) -> Result<String, ValidateError> {
-        let mut text = sweep::csv_line(header);
-        for r in rows {
-            text += &sweep::csv_line(r);
-        }
         let path = self.dir(section).join(file);
-        std::fs::write(&path, text)
+        crate::output::write_csv(&path, header, rows)
             .map_err(|e| ValidateError::Io(format!("{}: {e}", path.display())))?;
         Ok(format!("[{file}]({}/{file})", section.name()))
     }
@@ -774,26 +770,7 @@ fn read_run_file(path: &Path) -> Result<String, String> {
 fn history(dir: &Path, columns: &[&str]) -> Result<Vec<Vec<f64>>, String> {
     let path = dir.join("history.csv");
     let text = read_run_file(&path)?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let index: Vec<usize> = columns
-        .iter()
-        .map(|c| {
-            header
-                .iter()
-                .position(|h| h == c)
-                .ok_or_else(|| format!("{}: no column {c}", path.display()))
-        })
-        .collect::<Result<_, _>>()?;
-    let mut out = vec![Vec::new(); columns.len()];
-    for line in lines {
-        let fields: Vec<&str> = line.split(',').collect();
-        for (col, &k) in out.iter_mut().zip(&index) {
-            let x = fields.get(k).and_then(|f| f.parse::<f64>().ok());
-            col.push(x.ok_or_else(|| format!("{}: bad row `{line}`", path.display()))?);
-        }
-    }
-    Ok(out)
+    crate::output::history::read_columns(&path, text.as_bytes(), columns)
 }
 
 #[cfg(test)]
@@ -832,6 +809,17 @@ mod tests {
         file.set_len(0).unwrap();
         std::fs::write(&csv, b"time_s\n\xff\n").unwrap();
         refused("not UTF-8");
+        // A malformed row is named by its line, not a panic.
+        std::fs::write(&csv, "depth_m,time_s\n0,0\n0.5\n").unwrap();
+        refused(":3: the row has no `time_s` field");
+        std::fs::write(&csv, "time_s,depth_m\n0,0\n1e-6,deep\n").unwrap();
+        let e = history(&dir, &["depth_m"]).unwrap_err();
+        assert!(
+            e.ends_with("history.csv:3: depth_m = `deep` is not a number"),
+            "{e}"
+        );
+        std::fs::write(&csv, "depth_m\n0\n").unwrap();
+        refused("no column time_s");
 
         let vtu = dir.join("projectile_00007.vtu");
         std::os::unix::fs::symlink("/dev/zero", &vtu).unwrap();

@@ -43,3 +43,31 @@ pub fn assert_smallest_step_named(sim: &Simulation, err: &str) {
         "{err}: not {named}"
     );
 }
+
+/// A column of the `history.csv` in `dir`, by header name.
+pub fn history_column(dir: &Path, name: &str) -> Vec<f64> {
+    let path = dir.join("history.csv");
+    let file = std::fs::File::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut columns = penetrate::output::history::read_columns(&path, file, &[name])
+        .unwrap_or_else(|e| panic!("{e}"));
+    columns.remove(0)
+}
+
+/// The header and the rows of the CSV file `path`, `#` lines skipped. Rows may differ in
+/// length from the header (the caller checks).
+pub fn csv_file(path: &Path) -> (csv::StringRecord, Vec<csv::StringRecord>) {
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .flexible(true)
+        .from_path(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header = reader
+        .headers()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .clone();
+    let rows = reader
+        .records()
+        .map(|r| r.unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+        .collect();
+    (header, rows)
+}
