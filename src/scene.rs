@@ -45,6 +45,7 @@ use toml::{Table, Value};
 
 use crate::materials::hjc::Hjc;
 use crate::materials::johnson_cook::{FlowLaw, JcDamage, JcStrength};
+use crate::materials::presets::{self, DamageConstants, ZaConstants, PRESETS};
 use crate::materials::steel_eos::PolyEos;
 use crate::materials::zerilli_armstrong::ZaFcc;
 
@@ -1082,152 +1083,6 @@ struct RawWall {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Material presets
-// ---------------------------------------------------------------------------------------------
-
-/// The constants of `[projectile.material]` before the f32 cast, one field per scene key.
-struct SteelConstants {
-    density: f64,
-    youngs_modulus: f64,
-    poisson_ratio: f64,
-    specific_heat: f64,
-    taylor_quinney: f64,
-    t_room: f64,
-    t_melt: f64,
-    jc_a: f64,
-    jc_b: f64,
-    jc_n: f64,
-    jc_c: f64,
-    jc_m: f64,
-    eps_rate_ref: f64,
-    /// `Some`: the flow stress is Zerilli–Armstrong's, and `jc_a`…`jc_m` are unused.
-    za: Option<ZaConstants>,
-    /// `None`: the bulk modulus E/(3(1 − 2ν)) of the final E and ν.
-    eos_k1: Option<f64>,
-    eos_k2: f64,
-    eos_k3: f64,
-    eos_gamma: f64,
-    /// `None`: the preset has no damage constants (damage off unless the scene gives them).
-    damage: Option<DamageConstants>,
-}
-
-/// Zerilli–Armstrong fcc constants, one field per scene key `za_<field>`.
-#[derive(Clone, Copy)]
-struct ZaConstants {
-    c0: f64,
-    c2: f64,
-    c3: f64,
-    c4: f64,
-}
-
-#[derive(Clone, Copy)]
-struct DamageConstants {
-    d1: f64,
-    d2: f64,
-    d3: f64,
-    d4: f64,
-    d5: f64,
-    spall_stress: f64,
-    eps_f_min: f64,
-}
-
-const PRESETS: [&str; 4] = ["4340-rc30", "4340-rc45", "copper-ofhc", "copper-ofhc-za"];
-
-/// 4340 steel, Rc ≈ 30 temper: the seed paper's constants (physics.md §2.1-2.3; Johnson & Cook
-/// 1983/1985 fits). ν = 0.29 is physics.md's choice (the paper gives none).
-fn steel_4340_rc30() -> SteelConstants {
-    SteelConstants {
-        density: 7800.0,
-        youngs_modulus: 211.0e9,
-        poisson_ratio: 0.29,
-        specific_heat: 477.0,
-        // β, physics.md §2.1.
-        taylor_quinney: 0.9,
-        t_room: 293.0,
-        t_melt: 1793.0,
-        jc_a: 792.0e6,
-        jc_b: 510.0e6,
-        jc_n: 0.26,
-        jc_c: 0.014,
-        jc_m: 1.03,
-        eps_rate_ref: 1.0,
-        za: None,
-        // Paper eq. (14), physics.md §2.2.
-        eos_k1: Some(163.0e9),
-        eos_k2: 294.0e9,
-        eos_k3: 140.0e9,
-        eos_gamma: 1.16,
-        // Paper eq. (15)-(16), physics.md §2.3.
-        damage: Some(DamageConstants {
-            d1: 0.05,
-            d2: 3.44,
-            d3: -2.12,
-            d4: 0.002,
-            d5: 0.61,
-            spall_stress: 6.0e9,
-            eps_f_min: 0.19,
-        }),
-    }
-}
-
-/// 4340 at Rc 45, the Forrestal penetrators' hardness (Rc 43-45): the hardness-scaled fit of
-/// physics.md §2.1, `A(Rc) = exp(0.0355 (Rc − 2) + 5.5312)` MPa and `B = 0.6439 A`; every other
-/// constant as Rc 30.
-fn steel_4340_rc45() -> SteelConstants {
-    const ROCKWELL_C: f64 = 45.0;
-    let jc_a = (0.0355 * (ROCKWELL_C - 2.0) + 5.5312).exp() * 1.0e6;
-    SteelConstants {
-        jc_a,
-        jc_b: 0.6439 * jc_a,
-        ..steel_4340_rc30()
-    }
-}
-
-/// OFHC copper, Johnson & Cook (1983) as in `data/taylor.csv` (ρ, E, ν, c_p, A, B, n, C, m,
-/// T_melt); T_room 295 K is the Taylor tests' T0. EOS: linear with K₁ the elastic bulk modulus
-/// and Γ = 2.0 (copper's Grüneisen coefficient, e.g. Steinberg 1996). No damage constants.
-fn copper_ofhc() -> SteelConstants {
-    SteelConstants {
-        density: 8960.0,
-        youngs_modulus: 124.0e9,
-        poisson_ratio: 0.34,
-        specific_heat: 383.0,
-        taylor_quinney: 0.9,
-        t_room: 295.0,
-        t_melt: 1356.0,
-        jc_a: 90.0e6,
-        jc_b: 292.0e6,
-        jc_n: 0.31,
-        jc_c: 0.025,
-        jc_m: 1.09,
-        eps_rate_ref: 1.0,
-        za: None,
-        eos_k1: None,
-        eos_k2: 0.0,
-        eos_k3: 0.0,
-        eos_gamma: 2.0,
-        damage: None,
-    }
-}
-
-/// OFHC copper with Zerilli & Armstrong's (1987, J. Appl. Phys. 61, 1816) fcc flow stress
-/// σ_y = C₀ + C₂√ε_p exp(−C₃T + C₄T ln ε̇) and their copper constants C₂ = 890 MPa,
-/// C₃ = 0.0028/K, C₄ = 0.000115/K, with the athermal C₀ = 46.5 MPa as later evaluations
-/// tabulate it (Banerjee 2005; some papers quote 65 MPa, a larger grain-size term: README
-/// "Copper" gives both results). Every other constant is `copper-ofhc`'s.
-fn copper_ofhc_za() -> SteelConstants {
-    SteelConstants {
-        za: Some(ZaConstants {
-            c0: 46.5e6,
-            c2: 890.0e6,
-            c3: 0.0028,
-            c4: 0.000115,
-        }),
-        ..copper_ofhc()
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
 // Validation and resolution
 // ---------------------------------------------------------------------------------------------
 
@@ -1651,12 +1506,8 @@ fn check_strength_below_modulus(c: &Check, m: &SteelMaterial) -> Result<(), Scen
 }
 
 fn resolve_steel(c: &Check, m: &RawSteel) -> Result<SteelMaterial, SceneError> {
-    let mut k = match c.choice("projectile.material.preset", &m.preset, &PRESETS)? {
-        "4340-rc30" => steel_4340_rc30(),
-        "4340-rc45" => steel_4340_rc45(),
-        "copper-ofhc" => copper_ofhc(),
-        _ => copper_ofhc_za(),
-    };
+    let name = c.choice("projectile.material.preset", &m.preset, &PRESETS)?;
+    let mut k = presets::preset(name).expect("every preset name has constants");
     override_fields!(k, m, |v| v;
         density, youngs_modulus, poisson_ratio, specific_heat, taylor_quinney, t_room, t_melt,
         jc_a, jc_b, jc_n, jc_c, jc_m, eps_rate_ref, eos_k2, eos_k3, eos_gamma);
