@@ -272,6 +272,8 @@ pub struct ContactSpec {
     pub lambda: f64,
     /// Slave preselection radius over the projectile's largest radius (k > 1).
     pub slave_radius_factor: f64,
+    /// Coulomb friction coefficient at the sliding surface; 0 until the contact applies it.
+    pub friction: f64,
 }
 
 /// `[wall]`

@@ -282,9 +282,21 @@ fn resolve_run(c: &Check) -> Result<RunControl, SceneError> {
 }
 
 fn resolve_contact(c: &Check) -> Result<ContactSpec, SceneError> {
+    let lambda = c.num(&k::CONTACT_LAMBDA)?;
+    let slave_radius_factor = c.num(&k::CONTACT_SLAVE_RADIUS_FACTOR)?;
+    let friction = c.num(&k::CONTACT_FRICTION)?;
+    // Refused rather than ignored: a scene asking for friction must not run without it.
+    if friction != 0.0 {
+        return Err(c.non_physical(
+            k::CONTACT_FRICTION.path,
+            friction,
+            "friction is not implemented yet; only 0 is accepted",
+        ));
+    }
     Ok(ContactSpec {
-        lambda: c.num(&k::CONTACT_LAMBDA)?,
-        slave_radius_factor: c.num(&k::CONTACT_SLAVE_RADIUS_FACTOR)?,
+        lambda,
+        slave_radius_factor,
+        friction,
     })
 }
 

@@ -692,6 +692,11 @@ schema! {
         why: ": slaves are preselected beyond the projectile's largest radius",
         help: "Slave preselection radius over the projectile's largest radius",
         show: |s| number(s.contact.slave_radius_factor) }
+    CONTACT_FRICTION = "contact.friction" { default: DefaultValue::Number(0.0),
+        bounds: Range("[0, 1]"),
+        help: "Coulomb friction coefficient at the sliding surface (not yet applied by the \
+               contact: must be 0)",
+        show: |s| number(s.contact.friction) }
 
     WALL_Z = "wall.z" { unit: "m", help: "The wall's plane z = wall.z",
         show: |s| s.wall.as_ref().and_then(|w| number(w.z)) }
