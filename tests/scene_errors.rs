@@ -125,6 +125,35 @@ fn lambda_outside_unit_interval() {
     refused(&text, &[], &["contact.lambda = 1.5", "[0, 1]"]);
 }
 
+/// Friction is a scene key before the contact applies it: any other value than 0 is refused,
+/// never silently ignored.
+#[test]
+fn friction_is_refused_until_implemented() {
+    let err = refused(
+        &smoke_text(),
+        &["contact.friction=0.3"],
+        &[
+            "contact.friction",
+            "friction is not implemented yet; only 0 is accepted",
+        ],
+    );
+    assert!(matches!(err, SceneError::BadOverride { .. }));
+    let text = format!("{}\n[contact]\nfriction = 0.3\n", smoke_text());
+    let err = refused(&text, &[], &["contact.friction = 0.3", "not implemented"]);
+    assert!(matches!(err, SceneError::NonPhysical { .. }));
+    refused(
+        &smoke_text(),
+        &["contact.friction=2"],
+        &["contact.friction", "[0, 1]"],
+    );
+    let scene = parse_str(
+        &smoke_text(),
+        Path::new(ORIGIN),
+        &["contact.friction=0".into()],
+    );
+    assert_eq!(scene.unwrap().contact.friction, 0.0);
+}
+
 /// A target narrower than the projectile is an edge impact, not an error (the stability
 /// suite's grazing scene): every particle is then a slave.
 #[test]

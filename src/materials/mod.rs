@@ -2,6 +2,7 @@
 
 pub mod hjc;
 pub mod johnson_cook;
+pub mod presets;
 pub mod steel_eos;
 pub mod zerilli_armstrong;
 
