@@ -151,7 +151,7 @@ pub fn run(
             };
             if let Some(g) = sim.gpu_step() {
                 row.bytes_per_particle = Some(g.gpu_bytes() as f64 / particles.max(1) as f64);
-                row.readback_us = Some(g.readback_latency(50)? * 1e6);
+                row.readback_us = Some(g.readback_latency(50).map_err(|e| e.to_string())? * 1e6);
                 row.build_ms = Some(build_cost(&mut sim, row.ms_per_step, timed.min(10))?);
             }
             row.pass_ms = profile(&mut sim, 10)?;
@@ -184,7 +184,10 @@ fn profile(sim: &mut Simulation, steps: usize) -> Result<Vec<(&'static str, f64)
     for _ in 0..steps {
         sim.step().map_err(|e| e.to_string())?;
         let Some(g) = sim.gpu_step() else { break };
-        for (s, t) in sums.iter_mut().zip(g.pass_seconds()?) {
+        for (s, t) in sums
+            .iter_mut()
+            .zip(g.pass_seconds().map_err(|e| e.to_string())?)
+        {
             *s += t;
         }
     }

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use penetrate::scene;
-use penetrate::solver::Simulation;
+use penetrate::solver::{Entity, Instability, RunError, Simulation, Unstable};
 
 mod common;
 
@@ -777,7 +777,28 @@ fn instability_is_reported_with_what_where_and_when() {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = smoke_after_five_steps();
     sim.particles.az[7] = f32::NAN;
-    let err = sim.step().unwrap_err().to_string();
+    let err = sim.step().unwrap_err();
+    // The error is typed: which entity, what, where and when, as data.
+    let RunError::Unstable(Instability {
+        what:
+            Unstable::Entity {
+                entity,
+                reason,
+                r,
+                z,
+            },
+        when,
+    }) = &err
+    else {
+        panic!("not an unstable entity: {err:?}");
+    };
+    assert_eq!(*entity, Entity::Particle(7));
+    assert!(reason.starts_with("non-finite"), "{reason}");
+    assert_eq!(when.step, 5);
+    // Its z went non-finite with its acceleration; its r is where it was.
+    assert!(when.time > 0.0 && r.is_finite() && !z.is_finite(), "{err:?}");
+    // And printed as the run's status says it.
+    let err = err.to_string();
     assert!(err.starts_with("unstable: particle 7 non-finite"), "{err}");
     assert!(err.contains("step 5") && err.contains(" t "), "{err}");
 
@@ -787,8 +808,22 @@ fn instability_is_reported_with_what_where_and_when() {
     let (a, b) = (el[0] as usize, el[1] as usize);
     let n = &mut sim.projectile.nodes;
     (n.r[a], n.r[b], n.z[a], n.z[b]) = (n.r[b], n.r[a], n.z[b], n.z[a]);
-    let err = sim.step().unwrap_err().to_string();
-    assert!(err.contains("inverted"), "{err}");
+    let err = sim.step().unwrap_err();
+    assert!(
+        matches!(
+            &err,
+            RunError::Unstable(Instability {
+                what: Unstable::Entity {
+                    entity: Entity::Element(3),
+                    reason: "inverted",
+                    ..
+                },
+                ..
+            })
+        ),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("element 3 inverted"), "{err}");
 }
 
 /// A projectile far wider than it is long (a disc 1 m across and 20 mm thick, struck onto the

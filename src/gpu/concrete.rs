@@ -4,7 +4,7 @@
 
 use super::shader::Program;
 use super::state::GpuParticles;
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 use crate::state::SphParams;
 
 /// The HJC update of every particle over the clock's Δt: reads r, vr, the velocity gradient,
@@ -23,7 +23,7 @@ impl ConcretePass {
         sph_uniform: &wgpu::Buffer,
         clock: &wgpu::Buffer,
         params: &SphParams,
-    ) -> Result<ConcretePass, String> {
+    ) -> Result<ConcretePass, GpuError> {
         let conjugate = [("CONJUGATE", f64::from(u8::from(params.conjugate_gradient)))];
         let kernel = gpu.kernel(Program::Concrete, "main", &conjugate)?;
         let p = particles;

@@ -5,7 +5,7 @@
 
 use super::shader::Program;
 use super::state::{GpuNodes, GpuParticles};
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 use crate::mesh::MasterSegment;
 
 pub struct ContactPass {
@@ -29,7 +29,7 @@ impl ContactPass {
         masters: &[MasterSegment],
         particles: &GpuParticles,
         nodes: &GpuNodes,
-    ) -> Result<ContactPass, String> {
+    ) -> Result<ContactPass, GpuError> {
         let kernel = |entry: &str| gpu.kernel(Program::ContactDetect, entry, &[]);
         let n = slaves.len();
         let slave_buf = gpu.buffer("slaves", slaves);

@@ -6,7 +6,7 @@
 use super::params::FemUniform;
 use super::shader::Program;
 use super::state::{GpuElements, GpuNodes};
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 use crate::state::FemParams;
 
 /// The projectile's two passes: `fem_stress` advances every element over the clock's Δt and
@@ -35,7 +35,7 @@ impl FemPass {
         clock: &wgpu::Buffer,
         status: &wgpu::Buffer,
         plastic_total: &wgpu::Buffer,
-    ) -> Result<FemPass, String> {
+    ) -> Result<FemPass, GpuError> {
         let uniform = gpu.uniform("fem", &FemUniform::new(material, elements.len, nodes.len));
         let fem_uniform = &uniform;
         let damage = [("DAMAGE", f64::from(u8::from(material.damage.is_some())))];

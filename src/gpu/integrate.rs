@@ -2,7 +2,7 @@
 
 use super::shader::Program;
 use super::state::{GpuNodes, GpuParticles};
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 
 /// Status words (shaders/step.wgsl): the smallest index of an entity that went wrong.
 pub const STATUS_INVERTED_ELEMENT: usize = 0;
@@ -55,7 +55,7 @@ impl IntegratePass {
         particles: Option<&GpuParticles>,
         nodes: &GpuNodes,
         acc: &Accumulators,
-    ) -> Result<IntegratePass, String> {
+    ) -> Result<IntegratePass, GpuError> {
         let integrate = |entry: &str| gpu.kernel(Program::Integrate, entry, &[]);
         let particles_pass = match particles {
             Some(p) => {

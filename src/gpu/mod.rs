@@ -10,6 +10,7 @@
 
 pub mod concrete;
 pub mod contact_detect;
+pub mod error;
 pub mod fem;
 pub mod integrate;
 pub mod neighbours;
@@ -26,6 +27,8 @@ pub mod timestep;
 use std::sync::{Arc, Mutex};
 
 use bytemuck::Pod;
+
+pub use error::GpuError;
 
 /// Threads per workgroup in every shader (`@workgroup_size(64)`).
 pub const WORKGROUP: u32 = 64;
@@ -141,15 +144,15 @@ pub struct Kernel {
 
 impl Gpu {
     /// Open the adapter whose name contains `name` (case-insensitive), or the best one.
-    pub fn new(name: Option<&str>) -> Result<Gpu, String> {
+    pub fn new(name: Option<&str>) -> Result<Gpu, GpuError> {
         let instance = instance();
         let list = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
         if list.is_empty() {
-            return Err(
+            return Err(GpuError::NoAdapter(
                 "no GPU adapter found (on Debian, `apt-get install mesa-vulkan-drivers` \
                  gives the software adapter lavapipe)"
                     .into(),
-            );
+            ));
         }
         let mut candidates: Vec<&wgpu::Adapter> = match name {
             Some(n) => {
@@ -162,22 +165,22 @@ impl Gpu {
         };
         if candidates.is_empty() {
             let names: Vec<String> = list.iter().map(|a| a.get_info().name).collect();
-            return Err(format!(
+            return Err(GpuError::NoAdapter(format!(
                 "no adapter named like {:?}; adapters: {}",
                 name.unwrap_or(""),
                 names.join(", ")
-            ));
+            )));
         }
         candidates.sort_by_key(|a| rank(&a.get_info()));
         let usable = candidates.iter().find(|a| unusable(a).is_none());
         let Some(adapter) = usable else {
             let a = candidates[0];
-            return Err(format!(
+            return Err(GpuError::NoAdapter(format!(
                 "adapter {} ({:?}) cannot run the solver: {}",
                 a.get_info().name,
                 a.get_info().backend,
                 unusable(a).unwrap_or_default()
-            ));
+            )));
         };
         let features = adapter.features()
             & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
@@ -188,11 +191,9 @@ impl Gpu {
             required_limits: limits.clone(),
             ..Default::default()
         }))
-        .map_err(|e| {
-            format!(
-                "could not open the adapter {}: {e}",
-                adapter.get_info().name
-            )
+        .map_err(|e| GpuError::Open {
+            adapter: adapter.get_info().name,
+            message: e.to_string(),
         })?;
         let errors = Arc::new(Mutex::new(Vec::new()));
         let sink = errors.clone();
@@ -237,18 +238,25 @@ impl Gpu {
         first
     }
 
+    /// A scene that exceeds one of this adapter's limits, and how.
+    pub fn limit(&self, message: String) -> GpuError {
+        GpuError::Limit {
+            adapter: self.info.name.clone(),
+            message,
+        }
+    }
+
     /// Fail if the scene's largest array (bytes) does not fit one binding of this adapter.
-    pub fn check_binding_size(&self, what: &str, bytes: u64) -> Result<(), String> {
+    pub fn check_binding_size(&self, what: &str, bytes: u64) -> Result<(), GpuError> {
         let max = self
             .limits
             .max_storage_buffer_binding_size
             .min(self.limits.max_buffer_size);
         if bytes > max {
-            return Err(format!(
-                "scene too big for adapter {}: {what} take {bytes} bytes in one buffer, above \
-                 its max_storage_buffer_binding_size of {max} (fewer particles, or a larger GPU)",
-                self.info.name
-            ));
+            return Err(self.limit(format!(
+                "{what} take {bytes} bytes in one buffer, above its \
+                 max_storage_buffer_binding_size of {max} (fewer particles, or a larger GPU)"
+            )));
         }
         Ok(())
     }
@@ -332,7 +340,7 @@ impl Gpu {
 
     /// Read the first `count` elements of a buffer back (blocking). Used for outputs and
     /// tests, not inside the step.
-    pub fn read<T: Pod>(&self, buffer: &wgpu::Buffer, count: usize) -> Result<Vec<T>, String> {
+    pub fn read<T: Pod>(&self, buffer: &wgpu::Buffer, count: usize) -> Result<Vec<T>, GpuError> {
         let bytes = (count * std::mem::size_of::<T>()) as u64;
         if bytes == 0 {
             return Ok(Vec::new());
@@ -353,7 +361,7 @@ impl Gpu {
     }
 
     /// Map a MAP_READ buffer, copy out its first `bytes` bytes and unmap it.
-    pub fn map_read(&self, staging: &wgpu::Buffer, bytes: usize) -> Result<Vec<u8>, String> {
+    pub fn map_read(&self, staging: &wgpu::Buffer, bytes: usize) -> Result<Vec<u8>, GpuError> {
         let slice = staging.slice(..(bytes as u64).next_multiple_of(4));
         let (tx, rx) = std::sync::mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -361,21 +369,21 @@ impl Gpu {
         });
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| format!("GPU wait failed: {e}"))?;
+            .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
         match rx.recv() {
             Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(format!("GPU read-back failed: {e}")),
-            Err(_) => return Err("GPU read-back was dropped".into()),
+            Ok(Err(e)) => return Err(GpuError::Device(format!("GPU read-back failed: {e}"))),
+            Err(_) => return Err(GpuError::Device("GPU read-back was dropped".into())),
         }
         let out = {
             let view = slice
                 .get_mapped_range()
-                .map_err(|e| format!("GPU read-back failed: {e}"))?;
+                .map_err(|e| GpuError::Device(format!("GPU read-back failed: {e}")))?;
             view[..bytes].to_vec()
         };
         staging.unmap();
         if let Some(e) = self.take_error() {
-            return Err(format!("GPU error: {e}"));
+            return Err(GpuError::Device(format!("GPU error: {e}")));
         }
         Ok(out)
     }
@@ -388,16 +396,17 @@ impl Gpu {
         program: shader::Program,
         entry: &str,
         constants: &[(&str, f64)],
-    ) -> Result<Kernel, String> {
+    ) -> Result<Kernel, GpuError> {
         let name = format!("{}.{entry}", program.name());
         let mut given: Vec<&str> = constants.iter().map(|(c, _)| *c).collect();
         let mut declared = program.overrides().to_vec();
         given.sort_unstable();
         declared.sort_unstable();
         if given != declared {
-            return Err(format!(
-                "kernel {name}: constants {given:?} given, the program overrides {declared:?}"
-            ));
+            return Err(GpuError::Kernel {
+                kernel: name,
+                message: format!("constants {given:?} given, the program overrides {declared:?}"),
+            });
         }
         self.kernel_from(&name, &program.source(), entry, constants)
     }
@@ -410,16 +419,20 @@ impl Gpu {
         source: &str,
         entry: &str,
         constants: &[(&str, f64)],
-    ) -> Result<Kernel, String> {
-        let bindings =
-            shader::bindings(source).map_err(|e| format!("shader {name} does not parse: {e}"))?;
+    ) -> Result<Kernel, GpuError> {
+        let kernel_error = |message: String| GpuError::Kernel {
+            kernel: name.to_string(),
+            message,
+        };
+        let bindings = shader::bindings(source)
+            .map_err(|e| kernel_error(format!("the shader does not parse: {e}")))?;
         let storage = bindings.iter().filter(|b| b.slot != Slot::Uniform).count() as u32;
         if storage > self.limits.max_storage_buffers_per_shader_stage {
-            return Err(format!(
+            return Err(GpuError::NoAdapter(format!(
                 "adapter {} cannot run {name}: it binds {storage} storage buffers, above the \
                  adapter's max_storage_buffers_per_shader_stage of {}",
                 self.info.name, self.limits.max_storage_buffers_per_shader_stage
-            ));
+            )));
         }
         let module = self
             .device
@@ -471,7 +484,9 @@ impl Gpu {
                 cache: None,
             });
         if let Some(e) = self.take_error() {
-            return Err(format!("shader {name} ({entry}) does not build: {e}"));
+            return Err(kernel_error(format!(
+                "the shader ({entry}) does not build: {e}"
+            )));
         }
         Ok(Kernel {
             name: name.to_string(),
@@ -489,12 +504,12 @@ impl Kernel {
         &self,
         gpu: &Gpu,
         buffers: &[(&str, &wgpu::Buffer)],
-    ) -> Result<wgpu::BindGroup, String> {
+    ) -> Result<wgpu::BindGroup, GpuError> {
         if let Some((name, _)) = buffers
             .iter()
             .find(|(name, _)| !self.bindings.iter().any(|b| b.name == *name))
         {
-            return Err(format!("kernel {} has no binding {name}", self.name));
+            return Err(self.error(format!("no binding {name}")));
         }
         let entries = self
             .bindings
@@ -506,18 +521,24 @@ impl Kernel {
                         binding: b.index,
                         resource: buffer.as_entire_binding(),
                     }),
-                    (None, _) => Err(format!("kernel {}: no buffer for {}", self.name, b.name)),
-                    (Some(_), Some(_)) => {
-                        Err(format!("kernel {}: {} given twice", self.name, b.name))
-                    }
+                    (None, _) => Err(self.error(format!("no buffer for {}", b.name))),
+                    (Some(_), Some(_)) => Err(self.error(format!("{} given twice", b.name))),
                 }
             })
-            .collect::<Result<Vec<_>, String>>()?;
+            .collect::<Result<Vec<_>, GpuError>>()?;
         Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(&self.name),
             layout: &self.layout,
             entries: &entries,
         }))
+    }
+
+    /// A failure of this kernel's contract with its shader.
+    fn error(&self, message: String) -> GpuError {
+        GpuError::Kernel {
+            kernel: self.name.clone(),
+            message,
+        }
     }
 
     /// Record one dispatch covering `items` threads (one per item).
@@ -555,7 +576,7 @@ impl Kernel {
 }
 
 /// Run `record` in one compute pass, submit, and wait (tests and one-off uses).
-pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Result<(), String> {
+pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Result<(), GpuError> {
     let mut encoder = gpu
         .device
         .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
@@ -566,9 +587,9 @@ pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Resul
     gpu.queue.submit([encoder.finish()]);
     gpu.device
         .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| format!("GPU wait failed: {e}"))?;
+        .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
     match gpu.take_error() {
-        Some(e) => Err(format!("GPU error: {e}")),
+        Some(e) => Err(GpuError::Device(format!("GPU error: {e}"))),
         None => Ok(()),
     }
 }

@@ -7,7 +7,7 @@
 use super::scan::PrefixScan;
 use super::shader::Program;
 use super::state::GpuParticles;
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 
 /// The grid on the GPU: `GridInfo` words, `cell_start` (capacity + 1 entries) and `sorted`;
 /// the neighbour lists: `nbr` (NBR_MAX per particle, column-major) and `nbr_count`; and `kin`,
@@ -45,7 +45,12 @@ impl GpuGrid {
     }
 
     /// The grid's buffers for `n` particles and `capacity` cells, with `info` as given.
-    fn new(gpu: &Gpu, info: &[u32], cell_start: wgpu::Buffer, n: usize) -> Result<GpuGrid, String> {
+    fn new(
+        gpu: &Gpu,
+        info: &[u32],
+        cell_start: wgpu::Buffer,
+        n: usize,
+    ) -> Result<GpuGrid, GpuError> {
         gpu.check_binding_size("the neighbour lists", (4 * NBR_MAX * n) as u64)?;
         Ok(GpuGrid {
             info: gpu.buffer("grid info", info),
@@ -65,7 +70,7 @@ struct ListKernel {
 }
 
 impl ListKernel {
-    fn new(gpu: &Gpu, grid: &GpuGrid, sph_uniform: &wgpu::Buffer) -> Result<ListKernel, String> {
+    fn new(gpu: &Gpu, grid: &GpuGrid, sph_uniform: &wgpu::Buffer) -> Result<ListKernel, GpuError> {
         let kernel = gpu.kernel(Program::NeighbourList, "list", &[])?;
         let bindings = [&[("u", sph_uniform)][..], &grid.walk_bindings(&grid.kin)].concat();
         let bind = kernel.bind(gpu, &bindings)?;
@@ -114,7 +119,7 @@ impl NeighboursPass {
         sph_uniform: &wgpu::Buffer,
         capacity: u32,
         list_radius: f32,
-    ) -> Result<(NeighboursPass, GpuGrid), String> {
+    ) -> Result<(NeighboursPass, GpuGrid), GpuError> {
         let kernel = |entry: &str| gpu.kernel(Program::Neighbours, entry, &[]);
         let capacity = capacity.max(1);
         gpu.check_binding_size("the neighbour grid's cells", 4 * (capacity as u64 + 1))?;

@@ -4,7 +4,7 @@
 
 use super::params::ScanLevel;
 use super::shader::Program;
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 
 /// Entries one workgroup scans (shaders/scan.wgsl SCAN_BLOCK).
 pub const SCAN_BLOCK: u32 = 1024;
@@ -20,7 +20,7 @@ pub struct PrefixScan {
 
 impl PrefixScan {
     /// A scan of the first `len` entries of `data`.
-    pub fn new(gpu: &Gpu, data: &wgpu::Buffer, len: u32) -> Result<PrefixScan, String> {
+    pub fn new(gpu: &Gpu, data: &wgpu::Buffer, len: u32) -> Result<PrefixScan, GpuError> {
         let block = gpu.kernel(Program::Scan, "scan_block", &[])?;
         let add = gpu.kernel(Program::Scan, "scan_add", &[])?;
         let max_groups = gpu.limits.max_compute_workgroups_per_dimension;
@@ -31,11 +31,10 @@ impl PrefixScan {
         loop {
             let groups = len.div_ceil(SCAN_BLOCK);
             if groups > max_groups {
-                return Err(format!(
-                    "scene too big for adapter {}: a prefix scan of {len} entries needs {groups} \
-                     workgroups, max_compute_workgroups_per_dimension is {max_groups}",
-                    gpu.info.name
-                ));
+                return Err(gpu.limit(format!(
+                    "a prefix scan of {len} entries needs {groups} workgroups, \
+                     max_compute_workgroups_per_dimension is {max_groups}"
+                )));
             }
             let sums = gpu.zeros::<u32>("scan block totals", groups as usize);
             let uniform = gpu.uniform("scan level", &ScanLevel { len });

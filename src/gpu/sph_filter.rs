@@ -5,7 +5,7 @@
 use super::neighbours::GpuGrid;
 use super::shader::Program;
 use super::state::GpuParticles;
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 
 /// The velocity filter: each particle's (r, z, v̄_r, v̄_z) into `kin_filtered`, kin's layout.
 pub struct SphFilterPass {
@@ -21,7 +21,7 @@ impl SphFilterPass {
         particles: &GpuParticles,
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
-    ) -> Result<SphFilterPass, String> {
+    ) -> Result<SphFilterPass, GpuError> {
         let p = particles;
         let kernel = gpu.kernel(Program::SphFilter, "filter_velocity", &[])?;
         let kin_filtered = gpu.zeros::<[f32; 4]>("filtered kinematics", p.len);

@@ -3,7 +3,7 @@
 use super::neighbours::GpuGrid;
 use super::shader::Program;
 use super::state::GpuParticles;
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 
 /// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
 /// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
@@ -27,7 +27,7 @@ impl SphForcesPass {
         sph_uniform: &wgpu::Buffer,
         art_stress: bool,
         balsara: bool,
-    ) -> Result<SphForcesPass, String> {
+    ) -> Result<SphForcesPass, GpuError> {
         let art = [
             ("ART_STRESS", f64::from(u8::from(art_stress))),
             ("BALSARA", f64::from(u8::from(balsara))),

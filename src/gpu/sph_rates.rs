@@ -4,7 +4,7 @@ use super::neighbours::GpuGrid;
 use super::shader::Program;
 use super::sph_filter::SphFilterPass;
 use super::state::GpuParticles;
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 use crate::state::SphParams;
 
 /// Velocity gradients and density rates: `areas` writes m_tilde and area, `gradient` gathers
@@ -33,7 +33,7 @@ impl SphRatesPass {
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
         params: &SphParams,
-    ) -> Result<SphRatesPass, String> {
+    ) -> Result<SphRatesPass, GpuError> {
         let switch = [
             ("BALSARA", f64::from(u8::from(params.balsara))),
             ("CONJUGATE", f64::from(u8::from(params.conjugate_gradient))),

@@ -2,6 +2,7 @@
 //! names, the same element types, so a shader reads exactly what its CPU twin reads.
 
 use super::Gpu;
+use super::GpuError;
 use crate::state::{Elements, Nodes, Particles};
 
 /// Declares a struct of buffers mirroring a CPU struct's fields, with upload and download.
@@ -26,7 +27,7 @@ macro_rules! mirror {
             }
 
             /// Read every field back into `s` (same lengths).
-            pub fn download(&self, gpu: &Gpu, s: &mut $cpu) -> Result<(), String> {
+            pub fn download(&self, gpu: &Gpu, s: &mut $cpu) -> Result<(), GpuError> {
                 $(s.$field = gpu.read::<$t>(&self.$field, s.$field.len())?;)*
                 Ok(())
             }

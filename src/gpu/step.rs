@@ -30,6 +30,7 @@ use super::params::{SphUniform, StepUniform};
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
 use super::Gpu;
+use super::GpuError;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
 
 /// The neighbour lists hold the particles within the support grown by this fraction of it, so
@@ -171,7 +172,7 @@ pub struct StepSetup<'a> {
 }
 
 impl GpuStep {
-    pub fn new(gpu: Gpu, s: &StepSetup) -> Result<GpuStep, String> {
+    pub fn new(gpu: Gpu, s: &StepSetup) -> Result<GpuStep, GpuError> {
         // Refuse what the adapter cannot hold before allocating anything.
         let n_particles = s.particles.map_or(0, |(p, _)| p.len());
         let n_elements = s.projectile.elements.len();
@@ -180,11 +181,11 @@ impl GpuStep {
         let largest = n_particles.max(n_elements) as u64;
         let groups = largest.div_ceil(super::WORKGROUP as u64);
         if groups > gpu.limits.max_compute_workgroups_per_dimension as u64 {
-            return Err(format!(
-                "scene too big for adapter {}: {largest} particles or elements need {groups} \
-                 workgroups in one dispatch, above its max_compute_workgroups_per_dimension of {}",
-                gpu.info.name, gpu.limits.max_compute_workgroups_per_dimension
-            ));
+            return Err(gpu.limit(format!(
+                "{largest} particles or elements need {groups} workgroups in one dispatch, \
+                 above its max_compute_workgroups_per_dimension of {}",
+                gpu.limits.max_compute_workgroups_per_dimension
+            )));
         }
         let nodes = GpuNodes::upload(&gpu, &s.projectile.nodes);
         let elements = GpuElements::upload(&gpu, &s.projectile.elements);
@@ -329,7 +330,7 @@ impl GpuStep {
             mapped_at_creation: false,
         });
         if let Some(e) = gpu.take_error() {
-            return Err(format!("GPU set-up failed: {e}"));
+            return Err(GpuError::Device(format!("GPU set-up failed: {e}")));
         }
         Ok(GpuStep {
             gpu,
@@ -387,7 +388,7 @@ impl GpuStep {
     }
 
     /// Seconds spent in each pass of `PROFILED` during the last `advance` (profiling on).
-    pub fn pass_seconds(&self) -> Result<Vec<f64>, String> {
+    pub fn pass_seconds(&self) -> Result<Vec<f64>, GpuError> {
         let Some(p) = &self.profiler else {
             return Ok(Vec::new());
         };
@@ -403,7 +404,7 @@ impl GpuStep {
     }
 
     /// Mean seconds of a bare read-back (submit a copy of the clock, wait, map) over `n`.
-    pub fn readback_latency(&self, n: usize) -> Result<f64, String> {
+    pub fn readback_latency(&self, n: usize) -> Result<f64, GpuError> {
         let start = std::time::Instant::now();
         for _ in 0..n {
             let mut encoder = self
@@ -475,7 +476,7 @@ impl GpuStep {
     }
 
     /// Finish the last step (its forces and the next Δt) so the GPU state is complete.
-    pub fn flush(&mut self) -> Result<(), String> {
+    pub fn flush(&mut self) -> Result<(), GpuError> {
         if !self.pending_forces {
             return Ok(());
         }
@@ -495,7 +496,7 @@ impl GpuStep {
     }
 
     /// Advance one step up to the contact correction and read back what the host needs.
-    pub fn advance(&mut self) -> Result<Readback, String> {
+    pub fn advance(&mut self) -> Result<Readback, GpuError> {
         let start = Instant::now();
         let build = self.pending_forces && self.lists_stale();
         let mut encoder = self
@@ -647,7 +648,7 @@ impl GpuStep {
         particles: &mut Particles,
         projectile: &mut Projectile,
         what: Sync,
-    ) -> Result<Totals, String> {
+    ) -> Result<Totals, GpuError> {
         self.flush()?;
         if let Some(s) = &self.sph {
             let g = &self.gpu;

@@ -4,7 +4,7 @@
 
 use super::shader::Program;
 use super::state::{GpuElements, GpuParticles};
-use super::{Gpu, Kernel};
+use super::{Gpu, GpuError, Kernel};
 
 /// The Δt reduction.
 pub struct TimestepPass {
@@ -26,7 +26,7 @@ impl TimestepPass {
         particles: Option<&GpuParticles>,
         elements: Option<&GpuElements>,
         any: &wgpu::Buffer,
-    ) -> Result<TimestepPass, String> {
+    ) -> Result<TimestepPass, GpuError> {
         let timestep = |entry: &str| gpu.kernel(Program::Timestep, entry, &[]);
         // The reductions' bindings a–d: what their entry point reads (timestep.wgsl), with one
         // buffer in the slots an entry point leaves unused.
@@ -44,7 +44,7 @@ impl TimestepPass {
                     ("d", d),
                 ],
             )?;
-            Ok::<_, String>((k, bind))
+            Ok::<_, GpuError>((k, bind))
         };
         Ok(TimestepPass {
             particle_dt: particles

@@ -1,7 +1,7 @@
 //! The energy and momentum account: what the state holds, what the run has booked, and the
 //! guard that stops a run whose account has come apart.
 
-use super::{RunError, Simulation};
+use super::{Entity, Instability, Moving, RunError, Simulation, Unstable};
 
 impl Simulation {
     pub fn kinetic_energy(&self) -> f64 {
@@ -89,31 +89,27 @@ impl Simulation {
             return Ok(());
         }
         let made = -self.internal_target() / impact;
+        let f = self.fastest();
+        let fastest = Moving {
+            entity: Entity::named(f.what, f.index),
+            r: f.r as f64,
+            z: self.world_z(f.z),
+            speed: f.speed as f64,
+        };
         let what = if error.is_nan() || error.abs() > ENERGY_GUARD {
-            format!(
-                "energy balance lost: the account is off by {:+.1} % of the impact energy",
-                100.0 * error
-            )
+            Unstable::EnergyLost { error, fastest }
         } else if made > ENERGY_GUARD {
-            format!(
-                "energy made in the target: its forces have done {:.1} % of the impact energy \
-                 more work on the motion than the motion did on it",
-                100.0 * made
-            )
+            Unstable::EnergyMade {
+                share: made,
+                fastest,
+            }
         } else {
             return Ok(());
         };
-        let f = self.fastest();
-        Err(RunError::Unstable(format!(
-            "{what} at step {}, t {:.4e} s; fastest: {} {} at (r {:.4e}, z {:.4e}) m, {:.3e} m/s",
-            self.step,
-            self.time,
-            f.what,
-            f.index,
-            f.r,
-            self.world_z(f.z),
-            f.speed
-        )))
+        Err(RunError::from(Instability {
+            what,
+            when: self.when(),
+        }))
     }
 }
 

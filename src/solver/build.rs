@@ -125,7 +125,8 @@ impl Simulation {
             dt: self.dt,
             list_skin: crate::gpu::step::LIST_SKIN,
         };
-        let step = GpuStep::new(gpu, &setup).map_err(RunError::Setup)?;
+        let step =
+            GpuStep::new(gpu, &setup).map_err(|error| RunError::Gpu { error, when: None })?;
         self.stepper = Box::new(GpuStepper {
             step: Box::new(step),
             base: self.account,

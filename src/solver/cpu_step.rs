@@ -1,7 +1,7 @@
 //! The step on the CPU reference path, and what both backends share of it: the λ correction
 //! of the hits and the checks on the next Δt.
 
-use super::{Account, Pass, RunError, Simulation, Stepper};
+use super::{Account, Entity, Instability, Pass, RunError, Simulation, Stepper, Unstable, When};
 use crate::contact::{self, ContactBodies, Hit};
 use crate::cpu;
 use crate::gpu::step::Sync;
@@ -31,15 +31,16 @@ impl Simulation {
     pub(super) fn step_cpu(&mut self) -> Result<(), RunError> {
         let dt = self.dt;
         let origin = self.scene.origin_z();
-        let blowup = |b: cpu::integrate::Blowup, step: u64, time: f64| {
-            RunError::Unstable(format!(
-                "{} {} {} at (r {:.4e}, z {:.4e}) m, step {step}, t {time:.4e} s",
-                b.what,
-                b.index,
-                b.reason,
-                b.r,
-                b.z as f64 + origin
-            ))
+        let blowup = |b: cpu::integrate::Blowup, when: When| {
+            RunError::from(Instability {
+                what: Unstable::Entity {
+                    entity: Entity::named(b.what, b.index),
+                    reason: b.reason,
+                    r: b.r as f64,
+                    z: b.z as f64 + origin,
+                },
+                when,
+            })
         };
         if let Some(sph) = &self.sph {
             // Impulse the fixed boundary exerts on the rest: minus what its particles would
@@ -50,11 +51,11 @@ impl Simulation {
                 .map(|i| p.mass[i] as f64 * p.az[i] as f64 * dt as f64)
                 .sum::<f64>();
             cpu::integrate::particles(&mut self.particles, sph, dt, self.escape)
-                .map_err(|b| blowup(b, self.step, self.time))?;
+                .map_err(|b| blowup(b, self.when()))?;
         }
         let p_before = self.projectile_momentum();
         let lost = cpu::integrate::nodes(&mut self.projectile.nodes, dt, self.wall_z, self.escape)
-            .map_err(|b| blowup(b, self.step, self.time))?;
+            .map_err(|b| blowup(b, self.when()))?;
         if self.wall_z.is_some() {
             self.account.wall_dissipated += lost;
             let forces: f64 = self.projectile.nodes.fz.iter().map(|&f| f as f64).sum();
@@ -107,15 +108,20 @@ impl Simulation {
         if self.has(Pass::FemStress) {
             let p = &mut self.projectile;
             let origin = self.scene.origin_z();
+            let when = When {
+                step: self.step,
+                time: self.time,
+            };
             cpu::fem_stress::run(&mut p.elements, &p.nodes, &self.fem, dt).map_err(|inv| {
-                RunError::Unstable(format!(
-                    "element {} inverted at (r {:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
-                    inv.element,
-                    inv.r,
-                    inv.z as f64 + origin,
-                    self.step,
-                    self.time
-                ))
+                RunError::from(Instability {
+                    what: Unstable::Entity {
+                        entity: Entity::Element(inv.element),
+                        reason: "inverted",
+                        r: inv.r as f64,
+                        z: inv.z as f64 + origin,
+                    },
+                    when,
+                })
             })?;
             cpu::fem_forces::run(&mut p.nodes, &p.elements);
             self.account.plastic_work += p
@@ -147,14 +153,14 @@ impl Simulation {
     /// projectile's waves are absurdly slow (a bar at rest with E = 1e-9 Pa).
     pub(super) fn check_dt(&self, dt: f32) -> Result<(), RunError> {
         if collapsed(dt) {
-            return Err(RunError::Unstable(format!(
-                "time step collapsed to {dt:e} s (the least stable step × run.cfl = {}; a step \
-                 under {MIN_STEP:e} s is taken as a collapse) at step {}, t {:.4e} s: {}",
-                crate::scene::number_text(self.scene.run.cfl),
-                self.step,
-                self.time,
-                self.smallest_step_site()
-            )));
+            return Err(RunError::from(Instability {
+                what: Unstable::StepCollapsed {
+                    dt,
+                    cfl: self.scene.run.cfl,
+                    site: self.smallest_step_site(),
+                },
+                when: self.when(),
+            }));
         }
         if dt > 1.0 {
             let e = &self.projectile.elements;
@@ -165,11 +171,10 @@ impl Simulation {
                 // Waves that slow: the site says which element, and its state.
                 self.smallest_step_site()
             };
-            return Err(RunError::Unstable(format!(
-                "nothing limits the time step at step {}, t {:.4e} s: it would be {dt:e} s, \
-                 more than 1 s: {why}",
-                self.step, self.time
-            )));
+            return Err(RunError::from(Instability {
+                what: Unstable::StepUnbounded { dt, why },
+                when: self.when(),
+            }));
         }
         Ok(())
     }

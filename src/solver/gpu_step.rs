@@ -2,7 +2,7 @@
 //! there in the next submission (gpu::step).
 
 use super::cpu_step::{collapsed, correct_contact, Slaves};
-use super::{Account, Pass, RunError, Simulation, Stepper};
+use super::{Account, Entity, Instability, Pass, RunError, Simulation, Stepper, Unstable};
 use crate::contact::Hit;
 use crate::gpu::step::{GpuStep, Sync};
 
@@ -23,7 +23,10 @@ impl Stepper for GpuStepper {
         let t = self
             .step
             .download(&mut sim.particles, &mut sim.projectile, what)
-            .map_err(|e| RunError::Unstable(format!("GPU: {e}")))?;
+            .map_err(|error| RunError::Gpu {
+                error,
+                when: Some(sim.when()),
+            })?;
         let base = self.base;
         sim.account.boundary_impulse = base.boundary_impulse + t.boundary_impulse;
         sim.account.wall_dissipated = base.wall_dissipated + t.wall_lost;
@@ -49,7 +52,11 @@ impl Simulation {
     /// One step on the GPU: up to contact detection there, the correction here, and the rest
     /// there in the next submission (gpu::step).
     pub(super) fn step_gpu(&mut self, g: &mut GpuStep) -> Result<(), RunError> {
-        let gpu_err = |e: String| RunError::Unstable(format!("GPU: {e}"));
+        let when = self.when();
+        let gpu_err = |error| RunError::Gpu {
+            error,
+            when: Some(when),
+        };
         let rb = g.advance().map_err(gpu_err)?;
         let dt = rb.dt;
         if collapsed(dt) || dt > 1.0 {
@@ -67,12 +74,15 @@ impl Simulation {
         }
         if let Some((what, index, reason)) = GpuStep::status_problem(&rb.status) {
             let (r, z) = self.locate(g, what, index as usize);
-            return Err(RunError::Unstable(format!(
-                "{what} {index} {reason} at (r {r:.4e}, z {:.4e}) m, step {}, t {:.4e} s",
-                self.world_z(z),
-                self.step,
-                self.time
-            )));
+            return Err(RunError::from(Instability {
+                what: Unstable::Entity {
+                    entity: Entity::named(what, index as usize),
+                    reason,
+                    r: r as f64,
+                    z: self.world_z(z),
+                },
+                when,
+            }));
         }
         if self.has(Pass::ContactDetect) {
             self.last_hits = rb.hits.len();

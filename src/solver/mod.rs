@@ -10,6 +10,7 @@ mod account;
 mod build;
 mod cpu_step;
 mod diagnostics;
+mod error;
 mod gpu_step;
 mod outputs;
 mod run;
@@ -17,6 +18,7 @@ mod run;
 pub use account::ENERGY_GUARD;
 pub use build::build;
 pub use cpu_step::MIN_STEP;
+pub use error::{Entity, Instability, Moving, RunError, Unstable, When};
 pub use run::{run, RunOptions, RunOutcome, SCENE_FILE};
 
 use crate::cpu::neighbours::CellGrid;
@@ -53,29 +55,6 @@ impl Pass {
         }
     }
 }
-
-/// Why a run stopped early or went wrong.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RunError {
-    /// Bad input caught while building the model.
-    Setup(String),
-    /// The run went unstable: what, where and when.
-    Unstable(String),
-    /// Output could not be written.
-    Io(String),
-}
-
-impl std::fmt::Display for RunError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RunError::Setup(m) => write!(f, "setup: {m}"),
-            RunError::Unstable(m) => write!(f, "unstable: {m}"),
-            RunError::Io(m) => write!(f, "output: {m}"),
-        }
-    }
-}
-
-impl std::error::Error for RunError {}
 
 /// What advances a [`Simulation`] by one step: the CPU reference path or the GPU. Everything
 /// else (the run loop, the studies, the outputs) drives a simulation through
@@ -181,6 +160,14 @@ impl Simulation {
     /// Bring up to date what `history_row` reads (GPU runs): the rest may be stale.
     pub fn sync_history(&mut self) -> Result<(), RunError> {
         self.sync_part(Sync::History)
+    }
+
+    /// The step being taken and the time it started at, for a message.
+    fn when(&self) -> When {
+        When {
+            step: self.step,
+            time: self.time,
+        }
     }
 
     fn has(&self, pass: Pass) -> bool {
