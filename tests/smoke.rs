@@ -796,7 +796,10 @@ fn instability_is_reported_with_what_where_and_when() {
     assert!(reason.starts_with("non-finite"), "{reason}");
     assert_eq!(when.step, 5);
     // Its z went non-finite with its acceleration; its r is where it was.
-    assert!(when.time > 0.0 && r.is_finite() && !z.is_finite(), "{err:?}");
+    assert!(
+        when.time > 0.0 && r.is_finite() && !z.is_finite(),
+        "{err:?}"
+    );
     // And printed as the run's status says it.
     let err = err.to_string();
     assert!(err.starts_with("unstable: particle 7 non-finite"), "{err}");

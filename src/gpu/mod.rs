@@ -11,7 +11,8 @@
 pub mod concrete;
 pub mod contact_detect;
 pub mod error;
-pub mod fem;
+pub mod fem_forces;
+pub mod fem_stress;
 pub mod integrate;
 pub mod neighbours;
 pub mod params;

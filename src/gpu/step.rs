@@ -20,13 +20,14 @@
 use std::time::Instant;
 
 use super::contact_detect::ContactPass;
-use super::fem::FemPass;
+use super::fem_forces::FemForcesPass;
+use super::fem_stress::FemStressPass;
 use super::integrate::{
     Accumulators, IntegratePass, STATUS_CLEAR, STATUS_INVERTED_ELEMENT, STATUS_NODE_ESCAPED,
     STATUS_NODE_NONFINITE, STATUS_PARTICLE_ESCAPED, STATUS_PARTICLE_NONFINITE, STATUS_WORDS,
 };
 use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
-use super::params::{SphUniform, StepUniform};
+use super::params::{FemUniform, SphUniform, StepUniform};
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
 use super::Gpu;
@@ -86,7 +87,7 @@ pub struct GpuStep {
     sph: Option<SphPasses>,
     nodes: GpuNodes,
     elements: GpuElements,
-    fem: Option<FemPass>,
+    fem: Option<FemPasses>,
     integrate: IntegratePass,
     timestep: TimestepPass,
     acc: Accumulators,
@@ -279,15 +280,21 @@ impl GpuStep {
             None => None,
         };
         let fem = if s.deformable {
-            Some(FemPass::new(
-                &gpu,
-                &nodes,
-                &elements,
-                s.fem,
-                &clock,
-                &status,
-                &plastic_total,
-            )?)
+            let uniform = gpu.uniform("fem", &FemUniform::new(s.fem, elements.len, nodes.len));
+            Some(FemPasses {
+                stress: FemStressPass::new(
+                    &gpu,
+                    &nodes,
+                    &elements,
+                    &uniform,
+                    s.fem.damage.is_some(),
+                    &clock,
+                    &status,
+                    &plastic_total,
+                )?,
+                forces: FemForcesPass::new(&gpu, &nodes, &elements, &uniform)?,
+                _uniform: uniform,
+            })
         } else {
             None
         };
@@ -463,9 +470,9 @@ impl GpuStep {
             }
         }
         if let Some(fem) = &self.fem {
-            fem.record_stress(pass);
+            fem.stress.record(pass);
             self.mark(pass, 6);
-            fem.record_forces(pass);
+            fem.forces.record(pass);
             self.mark(pass, 7);
         } else {
             self.mark(pass, 6);
@@ -717,6 +724,14 @@ impl GpuStep {
     pub fn has_sph(&self) -> bool {
         self.sph.is_some()
     }
+}
+
+/// The projectile's two passes and the FemUniform they share.
+struct FemPasses {
+    stress: FemStressPass,
+    forces: FemForcesPass,
+    // Kept alive for the bind groups.
+    _uniform: wgpu::Buffer,
 }
 
 /// How much of the state `GpuStep::download` reads back.

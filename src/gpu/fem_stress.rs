@@ -1,48 +1,42 @@
-//! `fem_stress` and `fem_forces` on the GPU (shaders/fem_stress.wgsl with the Johnson–Cook law
-//! in shaders/johnson_cook.wgsl, the steel EOS in shaders/steel_eos.wgsl and the deviatoric
-//! helpers in shaders/deviator.wgsl; shaders/fem_forces.wgsl); CPU twins `cpu::fem_stress::run`
-//! and `cpu::fem_forces::run`.
+//! `fem_stress` on the GPU (shaders/fem_stress.wgsl with the flow laws in
+//! shaders/johnson_cook.wgsl, the steel EOS in shaders/steel_eos.wgsl and the deviatoric
+//! helpers in shaders/deviator.wgsl); CPU twin `cpu::fem_stress::run`.
 
-use super::params::FemUniform;
 use super::shader::Program;
 use super::state::{GpuElements, GpuNodes};
 use super::{Gpu, GpuError, Kernel};
-use crate::state::FemParams;
 
-/// The projectile's two passes: `fem_stress` advances every element over the clock's Δt and
-/// writes its nodal forces, stable step and plastic work (adding the work to `plastic_total`);
-/// an inverted element puts its index into the status word `STATUS_INVERTED_ELEMENT` (the
-/// smallest one wins). `fem_forces` gathers the element forces into the nodes' fr, fz.
-pub struct FemPass {
-    stress: Kernel,
-    forces: Kernel,
-    stress_bind: wgpu::BindGroup,
-    forces_bind: wgpu::BindGroup,
+/// `fem_stress` advances every element over the clock's Δt and writes its nodal forces, stable
+/// step and plastic work (adding the work to `plastic_total`); an inverted element puts its
+/// index into the status word `STATUS_INVERTED_ELEMENT` (the smallest one wins).
+pub struct FemStressPass {
+    kernel: Kernel,
+    bind: wgpu::BindGroup,
     n_elements: u32,
-    n_nodes: u32,
-    // The FemUniform, kept alive for the bind groups.
-    _uniform: wgpu::Buffer,
 }
 
-impl FemPass {
+impl FemStressPass {
     /// `fem_uniform` holds a `params::FemUniform`, `clock` the step's `Clock`, `status` the
-    /// step's status words, `plastic_total` one f32 per element.
+    /// step's status words, `plastic_total` one f32 per element; `damage`: the material has
+    /// Johnson–Cook damage (the update is compiled out otherwise).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         nodes: &GpuNodes,
         elements: &GpuElements,
-        material: &FemParams,
+        fem_uniform: &wgpu::Buffer,
+        damage: bool,
         clock: &wgpu::Buffer,
         status: &wgpu::Buffer,
         plastic_total: &wgpu::Buffer,
-    ) -> Result<FemPass, GpuError> {
-        let uniform = gpu.uniform("fem", &FemUniform::new(material, elements.len, nodes.len));
-        let fem_uniform = &uniform;
-        let damage = [("DAMAGE", f64::from(u8::from(material.damage.is_some())))];
-        let stress = gpu.kernel(Program::FemStress, "main", &damage)?;
-        let forces = gpu.kernel(Program::FemForces, "main", &[])?;
+    ) -> Result<FemStressPass, GpuError> {
+        let kernel = gpu.kernel(
+            Program::FemStress,
+            "main",
+            &[("DAMAGE", f64::from(u8::from(damage)))],
+        )?;
         let (n, e) = (nodes, elements);
-        let stress_bind = stress.bind(
+        let bind = kernel.bind(
             gpu,
             &[
                 ("u", fem_uniform),
@@ -70,38 +64,16 @@ impl FemPass {
                 ("plastic_total", plastic_total),
             ],
         )?;
-        let forces_bind = forces.bind(
-            gpu,
-            &[
-                ("u", fem_uniform),
-                ("elem_offsets", &n.elem_offsets),
-                ("elem_refs", &n.elem_refs),
-                ("force", &e.force),
-                ("fr", &n.fr),
-                ("fz", &n.fz),
-            ],
-        )?;
-        Ok(FemPass {
-            stress,
-            forces,
-            stress_bind,
-            forces_bind,
+        Ok(FemStressPass {
+            kernel,
+            bind,
             n_elements: e.len as u32,
-            n_nodes: n.len as u32,
-            _uniform: uniform,
         })
     }
 
     /// Record `fem_stress`: one thread per element.
-    pub fn record_stress(&self, pass: &mut wgpu::ComputePass) {
-        self.stress
-            .dispatch(pass, &self.stress_bind, self.n_elements);
-    }
-
-    /// Record `fem_forces`: one thread per node; after `record_stress` in the same pass (the
-    /// dispatches are ordered, the forces pass sees the element forces just written).
-    pub fn record_forces(&self, pass: &mut wgpu::ComputePass) {
-        self.forces.dispatch(pass, &self.forces_bind, self.n_nodes);
+    pub fn record(&self, pass: &mut wgpu::ComputePass) {
+        self.kernel.dispatch(pass, &self.bind, self.n_elements);
     }
 }
 
@@ -109,6 +81,7 @@ impl FemPass {
 mod tests {
     use super::*;
     use crate::gpu::concrete::tests::{field_error, increment_error};
+    use crate::gpu::fem_forces::FemForcesPass;
     use crate::gpu::integrate::{STATUS_CLEAR, STATUS_INVERTED_ELEMENT, STATUS_WORDS};
     use crate::gpu::params::FemUniform;
     use crate::gpu::shader::{self, fem_stress_parts, Part};
@@ -142,7 +115,7 @@ mod tests {
     /// and 12 outputs each: (ε_p, ε̇, T, σ_trial, σ*, Δε_p, μ, E) → (T*, σ_y, H, the return's
     /// Δε_p, scale and σ_y, ε_f, ΔD, spall at mean stress σ_trial, p, dp/dμ, 0).
     const LAW_KERNEL: Part = Part {
-        file: "(gpu::fem tests' law kernel)",
+        file: "(gpu::fem_stress tests' law kernel)",
         text: r#"
 @group(0) @binding(0) var<uniform> u: FemUniform;
 @group(0) @binding(1) var<storage, read> cases: array<f32>;
@@ -430,13 +403,26 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let clock = gpu.buffer("clock", &[dt.to_bits(), 0u32]);
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let plastic_total = gpu.buffer("plastic total", plastic_start);
-        let pass = FemPass::new(gpu, &gn, &ge, params, &clock, &status, &plastic_total).unwrap();
+        let uniform = gpu.uniform("fem", &FemUniform::new(params, elements.len(), nodes.len()));
+        let damage = params.damage.is_some();
+        let stress_pass = FemStressPass::new(
+            gpu,
+            &gn,
+            &ge,
+            &uniform,
+            damage,
+            &clock,
+            &status,
+            &plastic_total,
+        )
+        .unwrap();
+        let forces_pass = FemForcesPass::new(gpu, &gn, &ge, &uniform).unwrap();
         run_once(gpu, |p| {
             if stress {
-                pass.record_stress(p);
+                stress_pass.record(p);
             }
             if forces {
-                pass.record_forces(p);
+                forces_pass.record(p);
             }
         })
         .unwrap();
