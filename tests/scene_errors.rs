@@ -1,5 +1,8 @@
 //! Bad scene files and overrides: each must be refused with one line that names the file and the
 //! dotted key, and no input may make the loader panic.
+//!
+//! One file past 800 lines on purpose: it is a table of bad inputs, one case each, and every
+//! file in tests/ is a binary of its own (a link per piece in the fast tier).
 
 use std::path::{Path, PathBuf};
 

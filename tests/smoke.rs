@@ -1,4 +1,7 @@
 //! Short end-to-end runs of the shipped smoke case, and the command line's handling of bad input.
+//!
+//! One file past 800 lines on purpose: every file in tests/ is a binary of its own, linked
+//! against the whole solver, so splitting it would add a link per piece to the fast tier.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -16,6 +16,7 @@ pub mod fem_stress;
 pub mod integrate;
 pub mod neighbours;
 pub mod params;
+pub mod profiler;
 pub mod scan;
 pub mod shader;
 pub mod sph_filter;

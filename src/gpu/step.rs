@@ -28,6 +28,7 @@ use super::integrate::{
 };
 use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::{FemUniform, SphUniform, StepUniform};
+use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
 use super::Gpu;
@@ -138,21 +139,6 @@ pub const PROFILED: [&str; 10] = [
     "integrate",
     "contact_detect",
 ];
-
-/// GPU timestamps written after each pass of a step.
-struct Profiler {
-    queries: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    staging: wgpu::Buffer,
-}
-
-impl Profiler {
-    const SLOTS: u32 = PROFILED.len() as u32 + 1;
-
-    fn mark(&self, pass: &mut wgpu::ComputePass, slot: u32) {
-        pass.write_timestamp(&self.queries, slot);
-    }
-}
 
 /// What the GPU step needs from the model.
 pub struct StepSetup<'a> {
@@ -371,43 +357,16 @@ impl GpuStep {
         if !self.gpu.timestamps {
             return false;
         }
-        let bytes = 8 * Profiler::SLOTS as u64;
-        self.profiler = Some(Profiler {
-            queries: self.gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: Profiler::SLOTS,
-            }),
-            resolve: self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: bytes,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
-            staging: self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps read-back"),
-                size: bytes,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-        });
+        self.profiler = Some(Profiler::new(&self.gpu, PROFILED.len() as u32 + 1));
         true
     }
 
     /// Seconds spent in each pass of `PROFILED` during the last `advance` (profiling on).
     pub fn pass_seconds(&self) -> Result<Vec<f64>, GpuError> {
-        let Some(p) = &self.profiler else {
-            return Ok(Vec::new());
-        };
-        let bytes = self
-            .gpu
-            .map_read(&p.staging, 8 * Profiler::SLOTS as usize)?;
-        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
-        let period = self.gpu.queue.get_timestamp_period() as f64 * 1e-9;
-        Ok(ticks
-            .windows(2)
-            .map(|w| w[1].saturating_sub(w[0]) as f64 * period)
-            .collect())
+        match &self.profiler {
+            Some(p) => p.intervals(&self.gpu),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// Mean seconds of a bare read-back (submit a copy of the clock, wait, map) over `n`.
@@ -536,8 +495,7 @@ impl GpuStep {
             self.mark(&mut pass, 10);
         }
         if let Some(p) = &self.profiler {
-            encoder.resolve_query_set(&p.queries, 0..Profiler::SLOTS, &p.resolve, 0);
-            encoder.copy_buffer_to_buffer(&p.resolve, 0, &p.staging, 0, 8 * Profiler::SLOTS as u64);
+            p.resolve(&mut encoder);
         }
         let l = &self.layout;
         encoder.copy_buffer_to_buffer(&self.clock, 0, &self.staging, 0, 8);
