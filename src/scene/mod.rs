@@ -638,22 +638,26 @@ impl Scene {
         }
     }
 }
+
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn case(name: &str) -> PathBuf {
+    /// A shipped case by file name.
+    pub(crate) fn case(name: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("cases")
             .join(name)
     }
 
-    fn smoke(overrides: &[&str]) -> Result<Scene, SceneError> {
+    /// The smoke case with `overrides`.
+    pub(crate) fn smoke(overrides: &[&str]) -> Result<Scene, SceneError> {
         let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
         load(&case("smoke.toml"), &sets)
     }
 
-    fn shipped_cases() -> Vec<PathBuf> {
+    /// Every shipped case, in name order.
+    pub(crate) fn shipped_cases() -> Vec<PathBuf> {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
         let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
             .expect("cases/ exists")

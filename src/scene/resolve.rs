@@ -598,21 +598,9 @@ fn resolve_hjc(c: &Check, fc: f64, density: f64) -> Result<Hjc, SceneError> {
 
 #[cfg(test)]
 mod tests {
-    use std::path::{Path, PathBuf};
-
     use super::*;
+    use crate::scene::tests::{case, smoke};
     use crate::scene::{load, ogive_nose_length};
-
-    fn case(name: &str) -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
-            .join(name)
-    }
-
-    fn smoke(overrides: &[&str]) -> Result<Scene, SceneError> {
-        let sets: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        load(&case("smoke.toml"), &sets)
-    }
 
     #[test]
     fn forrestal_cases_follow_the_csv() {

@@ -104,21 +104,10 @@ pub fn reference_markdown() -> String {
 
 #[cfg(test)]
 mod tests {
-    use std::path::{Path, PathBuf};
-
     use super::*;
     use crate::scene::load;
-
-    fn shipped_cases() -> Vec<PathBuf> {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
-        let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
-            .expect("cases/ exists")
-            .map(|e| e.expect("readable entry").path())
-            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-            .collect();
-        paths.sort();
-        paths
-    }
+    use crate::scene::tests::shipped_cases;
+    use std::path::Path;
 
     #[test]
     fn resolved_table_read_back_as_overrides_reproduces_every_case() {
