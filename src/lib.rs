@@ -5,7 +5,6 @@
 //! The source tree follows the step: scene (parse, validate) → mesh → materials (pure laws) →
 //! state (structure-of-arrays, f32) → passes (`cpu/<pass>.rs`) → contact correction → output.
 
-pub mod bench;
 pub mod contact;
 pub mod cpu;
 pub mod estimate;
@@ -15,10 +14,7 @@ pub mod kernel;
 pub mod materials;
 pub mod mesh;
 pub mod output;
-pub mod plot;
 pub mod scene;
 pub mod solver;
-pub mod stability;
 pub mod state;
-pub mod sweep;
-pub mod validate;
+pub mod studies;

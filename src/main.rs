@@ -8,7 +8,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use penetrate::output::fixed;
 use penetrate::scene::{self, Backend, Scene};
 use penetrate::solver::{self, RunOptions};
-use penetrate::{estimate, mesh, sweep, validate};
+use penetrate::studies::{sweep, validate};
+use penetrate::{estimate, mesh};
 
 /// `println!` that gives up quietly when stdout is gone (`penetrate run … | head -1`): the run
 /// goes on and writes its files; `println!` would panic on the broken pipe.
@@ -307,7 +308,7 @@ fn main() -> ExitCode {
             if let Err(e) = penetrate::output::create_folder(&out) {
                 return fail(3, &format!("check-stability: {e}"));
             }
-            let result = penetrate::stability::run(
+            let result = penetrate::studies::stability::run(
                 &case,
                 &backends,
                 quick,
@@ -318,7 +319,7 @@ fn main() -> ExitCode {
             );
             match result {
                 Ok(rows) => {
-                    let table = penetrate::stability::table(&rows);
+                    let table = penetrate::studies::stability::table(&rows);
                     print!("{table}");
                     let path = out.join("stability.md");
                     if let Err(e) = std::fs::write(&path, &table) {
@@ -363,11 +364,16 @@ fn main() -> ExitCode {
             steps,
         } => {
             let backends = backends(backend, adapter.as_deref(), "bench");
-            match penetrate::bench::run(&case, &sizes, &backends, adapter.as_deref(), steps, |m| {
-                eprintln!("{m}")
-            }) {
+            match penetrate::studies::bench::run(
+                &case,
+                &sizes,
+                &backends,
+                adapter.as_deref(),
+                steps,
+                |m| eprintln!("{m}"),
+            ) {
                 Ok(rows) => {
-                    print!("{}", penetrate::bench::table(&rows));
+                    print!("{}", penetrate::studies::bench::table(&rows));
                     ExitCode::SUCCESS
                 }
                 Err(e) => fail(1, &format!("bench: {e}")),

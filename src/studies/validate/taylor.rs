@@ -1,8 +1,8 @@
 //! Taylor bars (`taylor.csv`): final length and mushroom diameter against the measurement at
 //! three element sizes.
 
-use crate::plot::{Chart, Mark};
-use crate::sweep;
+use crate::studies::plot::{Chart, Mark};
+use crate::studies::sweep;
 
 use super::{data, or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
 

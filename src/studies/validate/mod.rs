@@ -1,5 +1,5 @@
 //! `penetrate validate`: the shipped validation cases and the paper's studies, run in process
-//! through [`crate::sweep`], written up in `DIR/report.md` with PNG plots (`crate::plot`) and
+//! through [`super::sweep`], written up in `DIR/report.md` with PNG plots ([`super::plot`]) and
 //! each section's raw data as CSV.
 //!
 //! Sections ([`Section`]): Taylor bars at three element sizes; the Forrestal et al. (1994) shots
@@ -18,7 +18,7 @@ pub mod forrestal;
 mod frame;
 mod penetration;
 mod shell;
-mod studies;
+mod solid;
 mod taylor;
 
 use std::fmt;
@@ -26,9 +26,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::output::summary::{build_id, fingerprint};
-use crate::plot::Chart;
 use crate::scene::{self, Backend, Scene};
-use crate::sweep::{self, RunRecord, RunSettings, RunSpec, SweepError, Vary};
+use crate::studies::plot::Chart;
+use crate::studies::sweep::{self, RunRecord, RunSettings, RunSpec, SweepError, Vary};
 
 /// A part of the report, runnable alone with `--only`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -578,8 +578,8 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
             Section::Forrestal => penetration::forrestal(&mut ctx)?,
             Section::TargetSize => penetration::target_size(&mut ctx)?,
             Section::Convergence => penetration::convergence(&mut ctx)?,
-            Section::RigidVsElastic => studies::rigid_vs_elastic(&mut ctx)?,
-            Section::Deformation => studies::deformation(&mut ctx)?,
+            Section::RigidVsElastic => solid::rigid_vs_elastic(&mut ctx)?,
+            Section::Deformation => solid::deformation(&mut ctx)?,
             Section::Shell => shell::run(&mut ctx)?,
         };
         parts.push((s, out));

@@ -1,9 +1,9 @@
 //! The Forrestal et al. (1994) shots: depth against the measurements and Forrestal's equation,
 //! the target-size check, and depth error against run time at four resolutions per backend.
 
-use crate::plot::{Chart, Mark};
 use crate::scene::{self, Backend, ProjectileShape, Scene};
-use crate::sweep::{self, RunRecord};
+use crate::studies::plot::{Chart, Mark};
+use crate::studies::sweep::{self, RunRecord};
 
 use super::data::{self, Shot};
 use super::forrestal;
