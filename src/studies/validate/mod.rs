@@ -13,6 +13,7 @@
 //! reported in its row; [`Outcome::failed`] lists them for the exit code.
 
 pub mod bisect;
+mod convergence;
 pub mod data;
 pub mod forrestal;
 mod frame;
@@ -509,7 +510,7 @@ pub fn estimate_runs(opts: &Options) -> Result<usize, ValidateError> {
             Section::Convergence => {
                 // The levels, and the round-off ensemble's nudged runs at the coarsest one.
                 penetration::STUDY_SHOTS.len()
-                    * (settings.convergence_factors.len() + penetration::NUDGES.len() - 1)
+                    * (settings.convergence_factors.len() + convergence::NUDGES.len() - 1)
                     * opts.backends.len()
             }
             Section::RigidVsElastic => 2 * penetration::STUDY_SHOTS.len(),
@@ -577,7 +578,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
             Section::Taylor => taylor::run(&mut ctx)?,
             Section::Forrestal => penetration::forrestal(&mut ctx)?,
             Section::TargetSize => penetration::target_size(&mut ctx)?,
-            Section::Convergence => penetration::convergence(&mut ctx)?,
+            Section::Convergence => convergence::convergence(&mut ctx)?,
             Section::RigidVsElastic => solid::rigid_vs_elastic(&mut ctx)?,
             Section::Deformation => solid::deformation(&mut ctx)?,
             Section::Shell => shell::run(&mut ctx)?,
