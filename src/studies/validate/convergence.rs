@@ -5,8 +5,10 @@ use crate::scene::Backend;
 use crate::studies::plot::{Chart, Mark};
 use crate::studies::sweep::{self, RunRecord};
 
+use super::context::{Ask, Context};
 use super::penetration::{shot_ask, study_shot, ShotCase, STUDY_SHOTS};
-use super::{or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
+use super::report::{or_dash, pct, table, Check, SectionOut};
+use super::{Section, ValidateError};
 
 /// The target: CPU and GPU at one resolution within 0.5 %.
 const BACKEND_TOLERANCE: f64 = 0.005;

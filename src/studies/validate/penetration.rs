@@ -5,9 +5,11 @@ use crate::scene::{self, ProjectileShape, Scene};
 use crate::studies::plot::{Chart, Mark};
 use crate::studies::sweep::{self, RunRecord};
 
+use super::context::{Ask, Context};
 use super::data::{self, Shot};
 use super::forrestal;
-use super::{or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
+use super::report::{or_dash, pct, table, Check, SectionOut};
+use super::{Section, ValidateError};
 
 /// The shots of the convergence and rigid-against-elastic studies (m/s), as the issue names
 /// them; the target-size check uses the first.
@@ -305,7 +307,10 @@ fn resistance(
         let inputs = c.equation()?;
         let a = inputs.shank_radius;
         let nose_length = scene::ogive_nose_length(2.0 * a, inputs.crh);
-        let h = match super::history(&r.dir, &["time_s", "depth_m", "projectile_velocity_m_s"]) {
+        let h = match super::run_files::history(
+            &r.dir,
+            &["time_s", "depth_m", "projectile_velocity_m_s"],
+        ) {
             Ok(h) => h,
             Err(e) => {
                 notes += &format!("- {} m/s: no history ({e})\n", c.shot.velocity);

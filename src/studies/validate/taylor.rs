@@ -4,7 +4,9 @@
 use crate::studies::plot::{Chart, Mark};
 use crate::studies::sweep;
 
-use super::{data, or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
+use super::context::{Ask, Context};
+use super::report::{or_dash, pct, table, Check, SectionOut};
+use super::{data, Section, ValidateError};
 
 /// One bar of the section: a scene, the `taylor.csv` material it reproduces, and overrides.
 pub struct Bar {
