@@ -4,8 +4,10 @@
 //!
 //! The source tree follows the step: scene (parse, validate) → mesh → materials (pure laws) →
 //! state (structure-of-arrays, f32) → passes (`cpu/<pass>.rs`) → contact correction → output.
+//! Beside it, `studies` runs many scenes through the public API (validation report, sweeps,
+//! stability suite, benchmark) and `cli` holds the subcommands that `main.rs` dispatches to.
 
-pub mod bench;
+pub mod cli;
 pub mod contact;
 pub mod cpu;
 pub mod estimate;
@@ -15,10 +17,7 @@ pub mod kernel;
 pub mod materials;
 pub mod mesh;
 pub mod output;
-pub mod plot;
 pub mod scene;
 pub mod solver;
-pub mod stability;
 pub mod state;
-pub mod sweep;
-pub mod validate;
+pub mod studies;

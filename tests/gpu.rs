@@ -347,7 +347,7 @@ fn gpu_builds_only_the_passes_a_scene_needs() {
 #[test]
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn bench_splits_the_gpu_step_on_the_host() {
-    use penetrate::bench;
+    use penetrate::studies::bench;
     let adapter = std::env::var("PENETRATE_ADAPTER").ok();
     gpu();
     let case = case("forrestal1994-277.toml");

@@ -900,7 +900,7 @@ fn same_bits_on_one_and_two_threads() {
 /// step is that much shorter.
 #[test]
 fn every_stability_scene_loads() {
-    use penetrate::stability;
+    use penetrate::studies::stability;
     let base_path = case("stability.toml");
     let base = scene::load(&base_path, &[]).unwrap();
     let cases = stability::cases(&base, true);
@@ -1081,8 +1081,8 @@ fn a_target_that_makes_energy_is_unstable() {
 /// single step at the smallest size the case allows.
 #[test]
 fn bench_refuses_what_it_cannot_time() {
-    use penetrate::bench;
     use penetrate::scene::Backend;
+    use penetrate::studies::bench;
     let case = case("forrestal1994-277.toml");
     let run =
         |sizes: &[usize], steps| bench::run(&case, sizes, &[Backend::Cpu], None, steps, |_| {});

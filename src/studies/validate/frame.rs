@@ -23,7 +23,7 @@ pub fn last_projectile_frame(dir: &Path) -> Result<Frame, String> {
         .max()
         .ok_or_else(|| format!("{}: no projectile frame (projectile_*.vtu)", dir.display()))?;
     let path = dir.join(&last);
-    let text = super::read_run_file(&path)?;
+    let text = super::run_files::read_run_file(&path)?;
     parse(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 

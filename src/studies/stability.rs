@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use crate::output::summary::Summary;
 use crate::scene::{self, Backend, Scene};
 use crate::solver::{self, RunError, RunOptions};
-use crate::sweep::SweepError;
+use crate::studies::sweep::SweepError;
 
 /// One scene of the suite: the base scene (or `file`, beside it) with `overrides`, then its
 /// elastic moduli times `moduli_factor` ([`stiffen`]).

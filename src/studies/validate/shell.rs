@@ -3,12 +3,15 @@
 //! behind the nose), whether and where an element of the wall fails, damage maps on both sides
 //! of the critical velocity, and the growth of the damaged area in time.
 
-use crate::plot::{Chart, FieldMap, Mark};
-use crate::sweep::RunRecord;
+use crate::studies::plot::{Chart, FieldMap, Mark};
+use crate::studies::sweep::RunRecord;
 
 use super::bisect::{self, Bracket};
+use super::context::{Ask, Context};
 use super::frame;
-use super::{history, or_dash, table, Ask, Context, Section, SectionOut, ValidateError};
+use super::report::{or_dash, table, SectionOut};
+use super::run_files::history;
+use super::{Section, ValidateError};
 
 /// The shell's scene in the cases folder.
 const SHELL_FILE: &str = "shell-projectile.toml";

@@ -1,6 +1,6 @@
 //! `penetrate sweep`: one scene run over a range of one key's values (`--vary key=a:b:step`), in
 //! process, each run in its own directory and one `sweep.csv` row per run. The validation
-//! (`crate::validate`) runs its studies through the same [`plan`] and [`run_set`].
+//! ([`super::validate`]) runs its studies through the same [`plan`] and [`run_set`].
 
 use std::fmt;
 use std::path::{Path, PathBuf};

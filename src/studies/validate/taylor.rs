@@ -1,10 +1,12 @@
 //! Taylor bars (`taylor.csv`): final length and mushroom diameter against the measurement at
 //! three element sizes.
 
-use crate::plot::{Chart, Mark};
-use crate::sweep;
+use crate::studies::plot::{Chart, Mark};
+use crate::studies::sweep;
 
-use super::{data, or_dash, pct, table, Ask, Check, Context, Section, SectionOut, ValidateError};
+use super::context::{Ask, Context};
+use super::report::{or_dash, pct, table, Check, SectionOut};
+use super::{data, Section, ValidateError};
 
 /// One bar of the section: a scene, the `taylor.csv` material it reproduces, and overrides.
 pub struct Bar {

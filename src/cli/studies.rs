@@ -1,0 +1,319 @@
+//! The commands that run many scenes: `bench`, `check-stability`, `sweep` and `validate`
+//! ([`crate::studies`]).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use super::{backend_list, backends, fail, BackendArg};
+use crate::scene::Backend;
+use crate::studies;
+
+/// `penetrate bench`'s arguments.
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Penetration scene to scale (its target spacing is set per size).
+    #[arg(long, default_value = "cases/forrestal1994-277.toml")]
+    case: PathBuf,
+    /// Target sizes in particles, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000, 1_000_000])]
+    sizes: Vec<usize>,
+    /// Which paths to time: cpu, gpu, or auto (both, the GPU where an adapter is found).
+    #[arg(long, value_enum, default_value = "auto")]
+    backend: BackendArg,
+    /// GPU adapter (part of its name).
+    #[arg(long)]
+    adapter: Option<String>,
+    /// Timed steps on the GPU (the CPU takes about 2e6 particle-steps per size).
+    #[arg(long, default_value_t = 100)]
+    steps: usize,
+}
+
+/// `penetrate check-stability`'s arguments.
+#[derive(Args)]
+pub struct StabilityArgs {
+    /// Base scene the suite's scenes override.
+    #[arg(long, default_value = "cases/stability.toml")]
+    case: PathBuf,
+    /// Which paths: cpu, gpu, or auto (both, the GPU where an adapter is found).
+    #[arg(long, value_enum, default_value = "auto")]
+    backend: BackendArg,
+    /// GPU adapter (part of its name).
+    #[arg(long)]
+    adapter: Option<String>,
+    /// The quiescent scene for 10⁴ steps instead of 10⁵.
+    #[arg(long)]
+    quick: bool,
+    /// Only these scenes (comma-separated names from the table).
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+    /// Output directory: stability.md and one run directory per scene and backend.
+    #[arg(long, default_value = "runs/stability")]
+    out: PathBuf,
+}
+
+/// `penetrate sweep`'s arguments.
+#[derive(Args)]
+pub struct SweepArgs {
+    /// Scene file (cases/*.toml).
+    case: PathBuf,
+    /// The key and its values A, A + STEP, … up to B inclusive, e.g.
+    /// --vary projectile.velocity=200:800:100.
+    #[arg(long, value_name = "KEY=A:B:STEP")]
+    vary: String,
+    /// Override a scene value in every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+    /// Which implementation of the step runs (overrides the scene's run.backend).
+    #[arg(long, value_enum)]
+    backend: Option<BackendArg>,
+    /// GPU adapter (part of its name).
+    #[arg(long)]
+    adapter: Option<String>,
+    /// Output directory: sweep.csv and one run directory per value [default:
+    /// runs/<case>-<key's last part>].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Do not write VTK frames.
+    #[arg(long)]
+    no_vtk: bool,
+}
+
+/// `penetrate validate`'s arguments.
+#[derive(Args)]
+pub struct ValidateArgs {
+    /// Which paths, in order (comma-separated): cpu, gpu, or auto (gpu then cpu where an
+    /// adapter is found, else cpu). The error-against-run-time section runs on each, the
+    /// other sections on the first: `cpu,gpu` runs them on the CPU and still compares the
+    /// two paths.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "auto")]
+    backend: Vec<BackendArg>,
+    /// GPU adapter (part of its name).
+    #[arg(long)]
+    adapter: Option<String>,
+    /// Tiny resolutions and short end times: tests the tooling in about a minute; its
+    /// numbers are not validation.
+    #[arg(long)]
+    quick: bool,
+    /// Only these sections (comma-separated): taylor, forrestal, target-size, convergence,
+    /// rigid-vs-elastic, deformation, shell.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+    /// Output directory: report.md, and per section its CSV, plots and runs.
+    #[arg(long, default_value = "runs/validate")]
+    out: PathBuf,
+    /// Folder of the scenes the sections run.
+    #[arg(long, default_value = "cases")]
+    cases: PathBuf,
+    /// Folder of the measurements (taylor.csv, forrestal1994.csv).
+    #[arg(long, default_value = "../shared/data")]
+    data: PathBuf,
+    /// Take each completed run already in OUT whose resolved scene (its scene.toml),
+    /// backend and solver build (this very executable) are the ones asked for, instead of
+    /// running it again: an interrupted validation goes on where it stopped.
+    #[arg(long)]
+    resume: bool,
+    /// With --resume, also take runs made by this other build (the 16 hex digits that end
+    /// its `solver_build`; comma-separated or repeated), e.g. to write the report again
+    /// after a change to the report alone. The report lists the build of every run.
+    #[arg(long, value_delimiter = ',')]
+    resume_build: Vec<String>,
+}
+
+/// Times the step at each size and prints the table: 0, or 1 where a size could not be run.
+pub fn bench(args: BenchArgs) -> ExitCode {
+    let BenchArgs {
+        case,
+        sizes,
+        backend,
+        adapter,
+        steps,
+    } = args;
+    let backends = backends(backend, adapter.as_deref(), "bench");
+    match studies::bench::run(&case, &sizes, &backends, adapter.as_deref(), steps, |m| {
+        eprintln!("{m}")
+    }) {
+        Ok(rows) => {
+            print!("{}", studies::bench::table(&rows));
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(1, &format!("bench: {e}")),
+    }
+}
+
+/// Runs the stability suite, prints and writes its table: 0 when every run passed, else 1.
+pub fn check_stability(args: StabilityArgs) -> ExitCode {
+    let StabilityArgs {
+        case,
+        backend,
+        adapter,
+        quick,
+        only,
+        out,
+    } = args;
+    let backends = backends(backend, adapter.as_deref(), "check-stability");
+    if let Err(e) = crate::output::create_folder(&out) {
+        return fail(3, &format!("check-stability: {e}"));
+    }
+    let result = studies::stability::run(
+        &case,
+        &backends,
+        quick,
+        &only,
+        &out,
+        adapter.as_deref(),
+        |row| eprintln!("{} on {}: {}", row.case, row.backend, row.verdict()),
+    );
+    match result {
+        Ok(rows) => {
+            let table = studies::stability::table(&rows);
+            print!("{table}");
+            let path = out.join("stability.md");
+            if let Err(e) = std::fs::write(&path, &table) {
+                return fail(3, &format!("{}: {e}", path.display()));
+            }
+            if crate::interrupt::requested() {
+                return fail(
+                    crate::interrupt::EXIT_CODE,
+                    &format!(
+                        "check-stability: interrupted; {} has the scenes run so far",
+                        path.display()
+                    ),
+                );
+            }
+            let failed: Vec<String> = rows
+                .iter()
+                .filter(|r| r.verdict() != "pass")
+                .map(|r| format!("{} on {}", r.case, r.backend))
+                .collect();
+            if !failed.is_empty() {
+                return fail(
+                    1,
+                    &format!(
+                        "check-stability: {} of {} runs did not pass ({}); {} says why",
+                        failed.len(),
+                        rows.len(),
+                        failed.join(", "),
+                        path.display()
+                    ),
+                );
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(e.exit_code(), &format!("check-stability: {e}")),
+    }
+}
+
+/// Runs the sweep, one progress line per run: 0 when every run completed, else 1.
+pub fn sweep(args: SweepArgs) -> ExitCode {
+    let SweepArgs {
+        case,
+        vary,
+        set,
+        backend,
+        adapter,
+        out,
+        no_vtk,
+    } = args;
+    let vary = match studies::sweep::Vary::parse(&vary) {
+        Ok(v) => v,
+        Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
+    };
+    let backend = backend.map(Backend::from);
+    let out = out.unwrap_or_else(|| studies::sweep::default_out(&case, &vary));
+    let settings = studies::sweep::RunSettings {
+        adapter,
+        vtk: !no_vtk,
+    };
+    let planned = match studies::sweep::plan_sweep(&case, &vary, &set, backend, &settings, &out) {
+        Ok(p) => p,
+        Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
+    };
+    let total = planned.len();
+    eprintln!(
+        "penetrate sweep: {total} runs of {} over {}",
+        case.display(),
+        vary.key
+    );
+    let mut done = 0;
+    let result = studies::sweep::sweep(planned, &vary, &settings, &out, |r| {
+        done += 1;
+        let depth = r.summary().map_or(String::new(), |s| {
+            format!(", depth {:.4} m, {:.1} s", s.depth_m, s.wall_s)
+        });
+        eprintln!("[{done}/{total}] {}: {}{depth}", r.label, r.status());
+    });
+    match result {
+        Ok(records) => {
+            say!("{}", out.join("sweep.csv").display());
+            let failed = records.iter().filter(|r| r.completed().is_none()).count();
+            if failed == 0 {
+                ExitCode::SUCCESS
+            } else {
+                fail(
+                    1,
+                    &format!("sweep: {failed} of {total} runs did not complete"),
+                )
+            }
+        }
+        Err(e) => fail(e.exit_code(), &format!("sweep: {e}")),
+    }
+}
+
+/// Runs the validation and names its report: 0 when every run completed, else 1.
+pub fn validate(args: ValidateArgs) -> ExitCode {
+    let ValidateArgs {
+        backend,
+        adapter,
+        quick,
+        only,
+        out,
+        cases,
+        data,
+        resume,
+        resume_build,
+    } = args;
+    let only = match only
+        .iter()
+        .map(|s| studies::validate::Section::parse(s))
+        .collect::<Result<Vec<_>, _>>()
+    {
+        Ok(o) => o,
+        Err(e) => return fail(e.exit_code(), &format!("validate: {e}")),
+    };
+    let opts = studies::validate::Options {
+        cases,
+        data,
+        out,
+        backends: backend_list(&backend, adapter.as_deref(), "validate"),
+        adapter,
+        quick,
+        only,
+        resume,
+        resume_builds: resume_build,
+    };
+    match studies::validate::run(&opts, &mut |line| eprintln!("{line}")) {
+        Ok(o) => {
+            say!(
+                "{} ({} runs, {:.0} s)",
+                o.report.display(),
+                o.runs,
+                o.wall_s
+            );
+            if o.failed.is_empty() {
+                ExitCode::SUCCESS
+            } else {
+                fail(
+                    1,
+                    &format!(
+                        "validate: {} run(s) did not complete: {}",
+                        o.failed.len(),
+                        o.failed.join("; ")
+                    ),
+                )
+            }
+        }
+        Err(e) => fail(e.exit_code(), &format!("validate: {e}")),
+    }
+}
