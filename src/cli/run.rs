@@ -110,6 +110,9 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
         Err(solver::RunError::Io(m)) => fail(3, &m),
         Err(solver::RunError::Setup(m)) => fail(2, &format!("{}: {m}", case.display())),
+        Err(solver::RunError::Gpu { error, when: None }) => {
+            fail(2, &format!("{}: {error}", case.display()))
+        }
         Err(e) => fail(1, &e.to_string()),
     }
 }
