@@ -2,7 +2,7 @@
 // The prelude declares, from their Rust definitions, the uniform blocks (KernelUniform,
 // SphUniform, FemUniform, StepUniform, ScanLevel: src/gpu/params.rs) and the constants the
 // shaders share with the CPU path (WG = gpu::WORKGROUP, the material floors, the status words).
-// Every pass uses @workgroup_size(64): WG.
+// Every pass uses @workgroup_size(WG): WG.
 
 // The SPH kernel of src/kernel.rs: the 2-D cubic B-spline, support 2h.
 

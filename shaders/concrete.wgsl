@@ -29,7 +29,7 @@
 // target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
 override CONJUGATE: bool;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }

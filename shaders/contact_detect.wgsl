@@ -30,17 +30,17 @@ struct Master {
 // Bounding box of the projectile: r_max, z_min, z_max.
 @group(0) @binding(12) var<storage, read_write> bounds: array<f32>;
 
-var<workgroup> box_r: array<f32, 64>;
-var<workgroup> box_lo: array<f32, 64>;
-var<workgroup> box_hi: array<f32, 64>;
+var<workgroup> box_r: array<f32, WG>;
+var<workgroup> box_lo: array<f32, WG>;
+var<workgroup> box_hi: array<f32, WG>;
 
 // One workgroup: the projectile's bounding box, and the hit count reset.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn bounding_box(@builtin(local_invocation_index) local: u32) {
     var r_max = 0.0;
     var z_lo = 3.4028235e38;
     var z_hi = -3.4028235e38;
-    for (var i = local; i < u.n_nodes; i += 64u) {
+    for (var i = local; i < u.n_nodes; i += WG) {
         r_max = max(r_max, nr[i]);
         z_lo = min(z_lo, nz[i]);
         z_hi = max(z_hi, nz[i]);
@@ -49,7 +49,7 @@ fn bounding_box(@builtin(local_invocation_index) local: u32) {
     box_lo[local] = z_lo;
     box_hi[local] = z_hi;
     workgroupBarrier();
-    for (var stride = 32u; stride > 0u; stride = stride >> 1u) {
+    for (var stride = WG / 2u; stride > 0u; stride = stride >> 1u) {
         if (local < stride) {
             box_r[local] = max(box_r[local], box_r[local + stride]);
             box_lo[local] = min(box_lo[local], box_lo[local + stride]);
@@ -70,7 +70,7 @@ fn orient(a: vec2<f32>, b: vec2<f32>, p: vec2<f32>) -> f32 {
     return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x;
     if (k >= u.n_slaves) { return; }
@@ -107,7 +107,7 @@ fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Per hit: the slave's position and velocity for the read-back.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x;
     if (k >= min(atomicLoad(&hits[0]), u.n_slaves)) { return; }
@@ -116,7 +116,7 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Per corrected slave (written by the host): its new position and velocity.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn apply(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x;
     if (k >= fixes[0]) { return; }

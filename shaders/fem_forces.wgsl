@@ -11,7 +11,7 @@
 @group(0) @binding(4) var<storage, read_write> fr: array<f32>;
 @group(0) @binding(5) var<storage, read_write> fz: array<f32>;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = gid.x;
     if (n >= u.n_nodes) { return; }

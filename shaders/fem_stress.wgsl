@@ -116,7 +116,7 @@ fn write_nodal_forces(e: u32, g: Geometry, s: vec4<f32>) {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let e = gid.x;
     if (e >= u.n_elements) { return; }

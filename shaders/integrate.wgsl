@@ -36,7 +36,7 @@ fn check(i: u32, x: vec4<f32>, nonfinite_slot: u32, escaped_slot: u32) {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn particles(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n_particles) { return; }
@@ -72,7 +72,7 @@ fn particles(@builtin(global_invocation_id) gid: vec3<u32>) {
     check(i, vec4<f32>(pr, pz, pvr, pvz), STATUS_PARTICLE_NONFINITE, STATUS_PARTICLE_ESCAPED);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn nodes(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n_nodes) { return; }

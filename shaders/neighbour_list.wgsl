@@ -25,7 +25,7 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     (*g).count = k + 1u;
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn list(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }

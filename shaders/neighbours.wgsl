@@ -56,7 +56,7 @@ struct GridBuild {
 
 // Each thread folds the particles gid, gid + stride, … (gpu::Kernel::dispatch_fold), then one
 // atomic per bound.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn bounds(@builtin(global_invocation_id) gid: vec3<u32>,
           @builtin(num_workgroups) groups: vec3<u32>) {
     // Identities of the reduction: r_max starts at 0 as on the CPU.
@@ -116,7 +116,7 @@ fn setup() {
 // Grid-stride loops below: the cell arrays may need more threads than one dispatch dimension
 // has workgroups. Only the cells in use are cleared: what the scan leaves beyond them is stale
 // but never read, and a prefix sum carries nothing backwards.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn clear(@builtin(global_invocation_id) gid: vec3<u32>,
          @builtin(num_workgroups) groups: vec3<u32>) {
     for (var c = gid.x; c <= grid.cells; c += groups.x * WG) {
@@ -132,7 +132,7 @@ fn info() -> GridInfo {
 
 // Cell c counts into slot c + 1, so that the inclusive scan of the slots (scan.wgsl) leaves
 // cell_start[c] = Σ_{k<c} count[k], with cell_start[0] = 0 and cell_start[cells] = n.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
@@ -145,7 +145,7 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Every step, before the gathers: the packed kinematics, and the displacement watch reset.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i == 0u) {
@@ -157,7 +157,7 @@ fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // After the integration: the largest squared displacement since the lists were built (each
 // thread folds a share, then one atomic; non-negative f32 bits order like the values).
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn displacement(@builtin(global_invocation_id) gid: vec3<u32>,
                 @builtin(num_workgroups) groups: vec3<u32>) {
     var most = 0.0;
@@ -168,7 +168,7 @@ fn displacement(@builtin(global_invocation_id) gid: vec3<u32>,
     atomicMax(&grid.moved2, bitcast<u32>(most));
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
@@ -176,7 +176,7 @@ fn scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Insertion sort of each cell's segment (a few particles) by index.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn sort_cells(@builtin(global_invocation_id) gid: vec3<u32>,
               @builtin(num_workgroups) groups: vec3<u32>) {
     for (var c = gid.x; c < grid.cells; c += groups.x * WG) {

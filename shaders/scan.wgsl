@@ -8,10 +8,10 @@
 // One entry per block of `data`: the block's total.
 @group(0) @binding(2) var<storage, read_write> sums: array<u32>;
 
-var<workgroup> partial: array<u32, 64>;
+var<workgroup> partial: array<u32, WG>;
 
 // Scan one block of `data` in place; the block's total to sums[block].
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn scan_block(@builtin(workgroup_id) wid: vec3<u32>,
               @builtin(local_invocation_index) local: u32) {
     let base = wid.x * SCAN_BLOCK + local * SCAN_ITEMS;
@@ -23,7 +23,7 @@ fn scan_block(@builtin(workgroup_id) wid: vec3<u32>,
             data[at] = run;
         }
     }
-    // Inclusive Hillis–Steele scan of the 64 thread totals.
+    // Inclusive Hillis–Steele scan of the WG thread totals.
     partial[local] = run;
     workgroupBarrier();
     for (var stride = 1u; stride < WG; stride = stride << 1u) {
@@ -48,7 +48,7 @@ fn scan_block(@builtin(workgroup_id) wid: vec3<u32>,
 }
 
 // Add the (scanned) totals of the blocks before each block; block 0 has none.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn scan_add(@builtin(workgroup_id) wid: vec3<u32>,
             @builtin(local_invocation_index) local: u32) {
     if (wid.x == 0u) { return; }

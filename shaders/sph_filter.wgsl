@@ -33,7 +33,7 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
     (*acc).sum += vec2<f32>(w * dep_r, w * dep_z);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn filter_velocity(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }

@@ -60,7 +60,7 @@ fn artificial_stress(eps: f32, srr: f32, szz: f32, srz: f32, density: f32) -> ve
 }
 
 // Per particle: total stress over ρ², and the artificial stress when it is on.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn prologue(@builtin(global_invocation_id) gid: vec3<u32>) {
     let j = gid.x;
     if (j >= u.n) { return; }
@@ -142,7 +142,7 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
 
 // Per particle: the gather over neighbours and axis ghosts (neighbour_loop.wgsl), then the
 // hoop source.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }

@@ -32,7 +32,7 @@ override CONJUGATE: bool;
 // 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
 const TWO_PI: f32 = 2.0 * PI;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
@@ -88,7 +88,7 @@ fn correct(g: vec4<f32>, m: vec4<f32>) -> vec4<f32> {
     );
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }

@@ -27,7 +27,7 @@ fn particle_bits(i: u32) -> u32 {
 }
 
 // Each thread folds the items gid, gid + stride, … (gpu::Kernel::dispatch_fold), then one atomic.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn particle_dt(@builtin(global_invocation_id) gid: vec3<u32>,
                @builtin(num_workgroups) groups: vec3<u32>) {
     var bits = F32_MAX_BITS;
@@ -37,7 +37,7 @@ fn particle_dt(@builtin(global_invocation_id) gid: vec3<u32>,
     atomicMin(&clock.dt_next_bits, bits);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WG)
 fn element_dt(@builtin(global_invocation_id) gid: vec3<u32>,
               @builtin(num_workgroups) groups: vec3<u32>) {
     var bits = F32_MAX_BITS;

@@ -32,7 +32,8 @@ use bytemuck::Pod;
 
 pub use error::GpuError;
 
-/// Threads per workgroup in every shader (`@workgroup_size(64)`).
+/// Threads per workgroup in every shader: `@workgroup_size(WG)`, WG declared from this by the
+/// shader prelude (`shader::prelude`).
 pub const WORKGROUP: u32 = 64;
 
 /// Items each thread of a reduction folds (`Kernel::dispatch_fold`).

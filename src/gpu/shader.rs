@@ -402,6 +402,16 @@ mod tests {
                     program.name()
                 );
             }
+            // The host dispatches WORKGROUP threads a group (one for a single-thread entry).
+            for e in &module.entry_points {
+                assert!(
+                    [[super::super::WORKGROUP, 1, 1], [1, 1, 1]].contains(&e.workgroup_size),
+                    "{}.{}: workgroup size {:?}",
+                    program.name(),
+                    e.name,
+                    e.workgroup_size
+                );
+            }
             let mut overrides: Vec<&str> = module
                 .overrides
                 .iter()
