@@ -17,6 +17,7 @@ pub mod kernel;
 pub mod materials;
 pub mod mesh;
 pub mod output;
+pub mod pass;
 pub mod scene;
 pub mod solver;
 pub mod state;

@@ -31,8 +31,8 @@ use super::params::{FemUniform, SphUniform, StepUniform};
 use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
-use super::Gpu;
-use super::GpuError;
+use super::{Gpu, GpuError};
+use crate::pass::Pass;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
 
 /// The neighbour lists hold the particles within the support grown by this fraction of it, so
@@ -89,6 +89,8 @@ pub struct GpuStep {
     nodes: GpuNodes,
     elements: GpuElements,
     fem: Option<FemPasses>,
+    /// The scene's passes of the step's second half, in the order `record_forces` runs them.
+    force_passes: Vec<Pass>,
     integrate: IntegratePass,
     timestep: TimestepPass,
     acc: Accumulators,
@@ -140,15 +142,22 @@ pub const PROFILED: [&str; 10] = [
     "contact_detect",
 ];
 
+/// The profiler's mark after the pass `name` of `PROFILED` (mark 0 opens the step).
+fn profiled_slot(name: &str) -> u32 {
+    1 + PROFILED
+        .iter()
+        .position(|n| *n == name)
+        .unwrap_or(PROFILED.len()) as u32
+}
+
 /// What the GPU step needs from the model.
 pub struct StepSetup<'a> {
     pub particles: Option<(&'a Particles, &'a SphParams)>,
     pub projectile: &'a Projectile,
     pub fem: &'a FemParams,
-    /// The projectile deforms (FEM passes built).
-    pub deformable: bool,
+    /// The scene's pass list (`pass::for_scene`): what is built, and the order it runs in.
+    pub passes: &'a [Pass],
     pub slaves: &'a [u32],
-    pub contact: bool,
     pub wall_z: Option<f32>,
     pub escape: f32,
     pub cfl: f32,
@@ -179,7 +188,9 @@ impl GpuStep {
         let (h, alpha, beta) = s
             .particles
             .map_or((0.0, 0.0, 0.0), |(_, sp)| (sp.h, sp.alpha, sp.beta));
-        let slaves: &[u32] = if s.contact { s.slaves } else { &[] };
+        let deformable = s.passes.contains(&Pass::FemStress);
+        let contact = s.passes.contains(&Pass::ContactDetect);
+        let slaves: &[u32] = if contact { s.slaves } else { &[] };
         let hit_capacity = slaves.len().clamp(1, 4096);
         let u = StepUniform {
             n_particles: n_particles as u32,
@@ -195,7 +206,7 @@ impl GpuStep {
             alpha,
             beta,
             cfl: s.cfl,
-            has_fem: u32::from(s.deformable),
+            has_fem: u32::from(deformable),
             hit_capacity: hit_capacity as u32,
         };
         let step_uniform = gpu.uniform("step", &u);
@@ -240,7 +251,7 @@ impl GpuStep {
                     params.art_stress_eps > 0.0,
                     params.balsara,
                 )?;
-                let contact = if s.contact {
+                let contact = if contact {
                     Some(ContactPass::new(
                         &gpu,
                         &uniforms[0],
@@ -265,7 +276,7 @@ impl GpuStep {
             }
             None => None,
         };
-        let fem = if s.deformable {
+        let fem = if deformable {
             let uniform = gpu.uniform("fem", &FemUniform::new(s.fem, elements.len, nodes.len));
             Some(FemPasses {
                 stress: FemStressPass::new(
@@ -298,7 +309,7 @@ impl GpuStep {
             &uniforms[0],
             &clock,
             sph.as_ref().map(|p| &p.particles),
-            if s.deformable { Some(&elements) } else { None },
+            if deformable { Some(&elements) } else { None },
             &nodes.r,
         )?;
 
@@ -331,6 +342,7 @@ impl GpuStep {
             nodes,
             elements,
             fem,
+            force_passes: s.passes.iter().copied().filter(Pass::is_force).collect(),
             integrate,
             timestep,
             acc,
@@ -414,28 +426,29 @@ impl GpuStep {
             c.record_apply(pass, self.pending_fixes);
         }
         self.mark(pass, 1);
-        if let Some(sph) = sph {
-            sph.neighbours.record(pass, build);
-            self.mark(pass, 2);
-            sph.rates.record(pass);
-            self.mark(pass, 3);
-            sph.concrete.record(pass);
-            self.mark(pass, 4);
-            sph.forces.record(pass);
-            self.mark(pass, 5);
-        } else {
-            for slot in 2..=5 {
-                self.mark(pass, slot);
+        // Each pass's timestamp slot is its place in PROFILED; a pass the scene lacks gets its
+        // slot marked where it would have run, an empty interval.
+        let mut next = 2;
+        for p in &self.force_passes {
+            let at = profiled_slot(p.name());
+            for skipped in next..at {
+                self.mark(pass, skipped);
             }
+            match (p, sph, &self.fem) {
+                (Pass::Neighbours, Some(s), _) => s.neighbours.record(pass, build),
+                (Pass::SphRates, Some(s), _) => s.rates.record(pass),
+                (Pass::Concrete, Some(s), _) => s.concrete.record(pass),
+                (Pass::SphForces, Some(s), _) => s.forces.record(pass),
+                (Pass::FemStress, _, Some(f)) => f.stress.record(pass),
+                (Pass::FemForces, _, Some(f)) => f.forces.record(pass),
+                // A pass is built exactly when it is in the list (`new`).
+                _ => {}
+            }
+            self.mark(pass, at);
+            next = at + 1;
         }
-        if let Some(fem) = &self.fem {
-            fem.stress.record(pass);
-            self.mark(pass, 6);
-            fem.forces.record(pass);
-            self.mark(pass, 7);
-        } else {
-            self.mark(pass, 6);
-            self.mark(pass, 7);
+        for skipped in next..profiled_slot("timestep") {
+            self.mark(pass, skipped);
         }
         self.timestep.record(pass);
         self.mark(pass, 8);
@@ -710,7 +723,28 @@ pub struct Totals {
 
 #[cfg(test)]
 mod tests {
+    use super::{profiled_slot, PROFILED};
     use crate::gpu::neighbours::NBR_MAX;
+    use crate::pass::{self, Pass};
+
+    /// Every pass of the step's second half has a profiler slot, in the order the pass list
+    /// runs them, before the time step's.
+    #[test]
+    fn every_force_pass_has_its_profiler_slot_in_order() {
+        let all = pass::for_scene(true, true);
+        let slots: Vec<u32> = all
+            .iter()
+            .filter(|p| p.is_force())
+            .map(|p| profiled_slot(p.name()))
+            .chain([profiled_slot("timestep")])
+            .collect();
+        assert!(
+            slots.iter().all(|&s| s < PROFILED.len() as u32 + 1),
+            "{slots:?}"
+        );
+        assert!(slots.windows(2).all(|w| w[0] < w[1]), "{slots:?}");
+        assert!(all.contains(&Pass::FemForces));
+    }
 
     /// Over a coupled run with the lists' skin, every pair within the support at the moment
     /// the gathers run is in the lists (or the list overflowed, and the gathers walk the grid).

@@ -3,7 +3,7 @@
 
 use super::cpu_step::CpuStepper;
 use super::gpu_step::GpuStepper;
-use super::{Account, Pass, RunError, Simulation};
+use super::{Account, RunError, Simulation};
 use crate::cpu::neighbours::CellGrid;
 use crate::gpu::step::{GpuStep, StepSetup};
 use crate::mesh;
@@ -53,20 +53,7 @@ impl Simulation {
             .filter(|&i| particles.r[i as usize] <= k * r_max)
             .collect();
         let rigid = scene.contact.lambda == 0.0 && scene.wall.is_none();
-        let mut passes = vec![Pass::Integrate];
-        if sph.is_some() {
-            passes.extend([
-                Pass::ContactDetect,
-                Pass::ContactCorrect,
-                Pass::Neighbours,
-                Pass::SphRates,
-                Pass::Concrete,
-                Pass::SphForces,
-            ]);
-        }
-        if !rigid {
-            passes.extend([Pass::FemStress, Pass::FemForces]);
-        }
+        let passes = crate::pass::for_scene(sph.is_some(), !rigid);
         let extent = scene
             .target
             .as_ref()
@@ -116,9 +103,8 @@ impl Simulation {
             particles: self.sph.as_ref().map(|sp| (&self.particles, sp)),
             projectile: &self.projectile,
             fem: &self.fem,
-            deformable: self.has(Pass::FemStress),
+            passes: &self.passes,
             slaves: &self.slaves,
-            contact: self.has(Pass::ContactDetect),
             wall_z: self.wall_z,
             escape: self.escape,
             cfl: self.scene.run.cfl as f32,

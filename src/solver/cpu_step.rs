@@ -94,42 +94,42 @@ impl Simulation {
     /// Rates, stresses and forces at the current configuration, advancing the material state by
     /// `dt` (0 at start-up).
     pub(super) fn forces(&mut self, dt: f32) -> Result<(), RunError> {
-        if let Some(sph) = &self.sph {
-            cpu::neighbours::run(
-                &mut self.grid,
-                &self.particles.r,
-                &self.particles.z,
-                cpu::integrate::support(sph),
-            );
-            cpu::sph_rates::run(&mut self.particles, &self.grid, sph);
-            cpu::concrete::run(&mut self.particles, sph, dt);
-            cpu::sph_forces::run(&mut self.particles, &self.grid, sph);
-        }
-        if self.has(Pass::FemStress) {
-            let p = &mut self.projectile;
-            let origin = self.scene.origin_z();
-            let when = When {
-                step: self.step,
-                time: self.time,
-            };
-            cpu::fem_stress::run(&mut p.elements, &p.nodes, &self.fem, dt).map_err(|inv| {
-                RunError::from(Instability {
-                    what: Unstable::Entity {
-                        entity: Entity::Element(inv.element),
-                        reason: "inverted",
-                        r: inv.r as f64,
-                        z: inv.z as f64 + origin,
-                    },
-                    when,
-                })
-            })?;
-            cpu::fem_forces::run(&mut p.nodes, &p.elements);
-            self.account.plastic_work += p
-                .elements
-                .plastic_work
-                .iter()
-                .map(|&w| w as f64)
-                .sum::<f64>();
+        let when = self.when();
+        let origin = self.scene.origin_z();
+        for pass in self.passes.iter().filter(|p| p.is_force()) {
+            let (p, n, sph) = (&mut self.particles, &mut self.projectile, self.sph.as_ref());
+            match (pass, sph) {
+                (Pass::Neighbours, Some(sph)) => {
+                    cpu::neighbours::run(&mut self.grid, &p.r, &p.z, cpu::integrate::support(sph))
+                }
+                (Pass::SphRates, Some(sph)) => cpu::sph_rates::run(p, &self.grid, sph),
+                (Pass::Concrete, Some(sph)) => cpu::concrete::run(p, sph, dt),
+                (Pass::SphForces, Some(sph)) => cpu::sph_forces::run(p, &self.grid, sph),
+                (Pass::FemStress, _) => {
+                    cpu::fem_stress::run(&mut n.elements, &n.nodes, &self.fem, dt).map_err(
+                        |inv| {
+                            RunError::from(Instability {
+                                what: Unstable::Entity {
+                                    entity: Entity::Element(inv.element),
+                                    reason: "inverted",
+                                    r: inv.r as f64,
+                                    z: inv.z as f64 + origin,
+                                },
+                                when,
+                            })
+                        },
+                    )?;
+                    self.account.plastic_work += n
+                        .elements
+                        .plastic_work
+                        .iter()
+                        .map(|&w| w as f64)
+                        .sum::<f64>();
+                }
+                (Pass::FemForces, _) => cpu::fem_forces::run(&mut n.nodes, &n.elements),
+                // The target's passes of a scene without one are never in its list.
+                _ => {}
+            }
         }
         Ok(())
     }

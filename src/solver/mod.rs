@@ -23,38 +23,9 @@ pub use run::{run, RunOptions, RunOutcome, SCENE_FILE};
 
 use crate::cpu::neighbours::CellGrid;
 use crate::gpu::step::{GpuStep, Sync};
+use crate::pass::Pass;
 use crate::scene::Scene;
 use crate::state::{FemParams, Particles, Projectile, SphParams};
-
-/// One pass of the step. A scene's pass list holds only what it needs (architecture.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pass {
-    Integrate,
-    ContactDetect,
-    ContactCorrect,
-    Neighbours,
-    SphRates,
-    Concrete,
-    SphForces,
-    FemStress,
-    FemForces,
-}
-
-impl Pass {
-    pub fn name(&self) -> &'static str {
-        match self {
-            Pass::Integrate => "integrate",
-            Pass::ContactDetect => "contact_detect",
-            Pass::ContactCorrect => "contact_correct",
-            Pass::Neighbours => "neighbours",
-            Pass::SphRates => "sph_rates",
-            Pass::Concrete => "concrete",
-            Pass::SphForces => "sph_forces",
-            Pass::FemStress => "fem_stress",
-            Pass::FemForces => "fem_forces",
-        }
-    }
-}
 
 /// What advances a [`Simulation`] by one step: the CPU reference path or the GPU. Everything
 /// else (the run loop, the studies, the outputs) drives a simulation through

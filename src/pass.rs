@@ -1,0 +1,63 @@
+//! The passes of one step, as data: a scene's pass list holds only what it needs, in the order
+//! they run, and both backends run the list (architecture.md, "Shape of one step").
+
+/// One pass of the step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    Integrate,
+    ContactDetect,
+    ContactCorrect,
+    Neighbours,
+    SphRates,
+    Concrete,
+    SphForces,
+    FemStress,
+    FemForces,
+}
+
+impl Pass {
+    /// The pass's name: its files in `cpu/`, `gpu/` and `shaders/`, and in `summary.json`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Pass::Integrate => "integrate",
+            Pass::ContactDetect => "contact_detect",
+            Pass::ContactCorrect => "contact_correct",
+            Pass::Neighbours => "neighbours",
+            Pass::SphRates => "sph_rates",
+            Pass::Concrete => "concrete",
+            Pass::SphForces => "sph_forces",
+            Pass::FemStress => "fem_stress",
+            Pass::FemForces => "fem_forces",
+        }
+    }
+
+    /// A pass of the step's second half: rates, stresses and forces at the configuration the
+    /// first half (integration and contact) reached.
+    pub fn is_force(&self) -> bool {
+        !matches!(
+            self,
+            Pass::Integrate | Pass::ContactDetect | Pass::ContactCorrect
+        )
+    }
+}
+
+/// The passes a scene needs, in the order they run: the target's (contact, neighbours, SPH
+/// rates, concrete, SPH forces) when it has one, the projectile's stress and forces when it
+/// deforms (not a rigid λ = 0 projectile).
+pub fn for_scene(has_target: bool, deformable: bool) -> Vec<Pass> {
+    let mut passes = vec![Pass::Integrate];
+    if has_target {
+        passes.extend([
+            Pass::ContactDetect,
+            Pass::ContactCorrect,
+            Pass::Neighbours,
+            Pass::SphRates,
+            Pass::Concrete,
+            Pass::SphForces,
+        ]);
+    }
+    if deformable {
+        passes.extend([Pass::FemStress, Pass::FemForces]);
+    }
+    passes
+}
