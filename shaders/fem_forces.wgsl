@@ -1,6 +1,7 @@
 // `fem_forces` (CPU twin: src/cpu/fem_forces.rs): per node, the forces of its elements through
 // the node → element CSR, in CSR order. A gather, not a scatter: no float atomics, the same
-// bits every run and the same sum as the CPU. Needs params.wgsl.
+// bits every run and the same sum as the CPU. FemUniform comes from the prelude
+// (src/gpu/params.rs).
 
 @group(0) @binding(0) var<uniform> u: FemUniform;
 @group(0) @binding(1) var<storage, read> elem_offsets: array<u32>;
