@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use penetrate::gpu::Gpu;
 use penetrate::scene::{self, Backend, Scene};
-use penetrate::solver::{self, RunOptions, Simulation};
+use penetrate::solver::{self, Model, RunOptions, Simulation};
 
 mod common;
 
@@ -50,11 +50,12 @@ fn scale(b: &[f32]) -> f32 {
     b.iter().fold(0.0f32, |m, x| m.max(x.abs()))
 }
 
-fn run_steps(sim: &mut Simulation, steps: usize) {
+/// The state of `sim` after `steps` more steps.
+fn run_steps(mut sim: Simulation, steps: usize) -> Model {
     for _ in 0..steps {
         sim.step().unwrap();
     }
-    sim.sync().unwrap();
+    sim.into_model().unwrap()
 }
 
 /// After 300 steps of the coupled smoke scene at 800 m/s (the nose is in the target, slaves
@@ -73,15 +74,13 @@ fn run_steps(sim: &mut Simulation, steps: usize) {
 fn gpu_and_cpu_agree_after_300_coupled_steps() {
     // At 800 m/s the nose yields within the 300 steps.
     let scene = smoke(&["projectile.velocity=800"]);
-    let mut cpu = Simulation::new(&scene).unwrap();
     let mut nudged = Simulation::new(&scene).unwrap();
-    for v in nudged.projectile.nodes.vz.iter_mut() {
+    for v in nudged.model_mut().unwrap().projectile.nodes.vz.iter_mut() {
         *v = f32::from_bits(v.to_bits() + 1);
     }
-    let mut gpu = on_gpu(&scene);
-    run_steps(&mut cpu, 300);
-    run_steps(&mut nudged, 300);
-    run_steps(&mut gpu, 300);
+    let cpu = run_steps(Simulation::new(&scene).unwrap(), 300);
+    let nudged = run_steps(nudged, 300);
+    let gpu = run_steps(on_gpu(&scene), 300);
     assert!(cpu.last_hits > 0, "the test must exercise the contact");
     assert!(
         cpu.max_plastic_strain() > 0.0,
@@ -93,7 +92,7 @@ fn gpu_and_cpu_agree_after_300_coupled_steps() {
         gpu.time,
         cpu.time
     );
-    let fields = |s: &Simulation| -> Vec<(&'static str, Vec<f32>)> {
+    let fields = |s: &Model| -> Vec<(&'static str, Vec<f32>)> {
         let (p, n, e) = (&s.particles, &s.projectile.nodes, &s.projectile.elements);
         vec![
             ("particle r", p.r.clone()),
@@ -140,10 +139,8 @@ fn gpu_and_cpu_agree_after_300_coupled_steps() {
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn gpu_runs_are_bit_identical() {
     let scene = smoke(&[]);
-    let mut a = on_gpu(&scene);
-    let mut b = on_gpu(&scene);
-    run_steps(&mut a, 200);
-    run_steps(&mut b, 200);
+    let a = run_steps(on_gpu(&scene), 200);
+    let b = run_steps(on_gpu(&scene), 200);
     assert_eq!(a.time.to_bits(), b.time.to_bits());
     for (x, y) in [
         (&a.particles.r, &b.particles.r),
@@ -286,16 +283,18 @@ fn short_run(scene: &Scene, out: &Path, backend: Backend) -> solver::RunOutcome 
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn a_collapsed_gpu_step_names_where() {
     let mut sim = Simulation::new(&smoke(&[])).unwrap();
-    run_steps(&mut sim, 5);
+    for _ in 0..5 {
+        sim.step().unwrap();
+    }
     // A Courant number of 1e-7 makes every step about 1e-14 s: below what the run accepts.
-    sim.scene.run.cfl = 1.0e-7;
+    sim.model_mut().unwrap().scene.run.cfl = 1.0e-7;
     sim.use_gpu(gpu()).unwrap();
     let err = (0..3)
         .find_map(|_| sim.step().err())
         .expect("the step did not collapse")
         .to_string();
     assert!(err.contains("time step collapsed"), "{err}");
-    common::assert_smallest_step_named(&sim, &err);
+    common::assert_smallest_step_named(sim.model().unwrap(), &err);
 }
 
 /// A rigid projectile (λ = 0) builds no FEM passes on the GPU either, and the Taylor bars (no
@@ -305,9 +304,7 @@ fn a_collapsed_gpu_step_names_where() {
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn gpu_builds_only_the_passes_a_scene_needs() {
     let rigid = smoke(&["contact.lambda=0"]);
-    let mut sim = on_gpu(&rigid);
-    run_steps(&mut sim, 50);
-    let passes = sim.pass_names("gpu");
+    let passes = run_steps(on_gpu(&rigid), 50).pass_names("gpu");
     assert!(!passes.iter().any(|p| p.starts_with("fem_")), "{passes:?}");
 
     let set = vec![
@@ -316,15 +313,14 @@ fn gpu_builds_only_the_passes_a_scene_needs() {
     ];
     for case_name in ["taylor-4340-208.toml", "taylor-copper-190.toml"] {
         let taylor = scene::load(&case(case_name), &set).unwrap();
-        let mut cpu = Simulation::new(&taylor).unwrap();
-        let mut gpu = on_gpu(&taylor);
-        while cpu.time < 2e-5 {
-            cpu.step().unwrap();
-        }
-        while gpu.time < 2e-5 {
-            gpu.step().unwrap();
-        }
-        gpu.sync().unwrap();
+        let until = |mut sim: Simulation| {
+            while sim.time() < 2e-5 {
+                sim.step().unwrap();
+            }
+            sim.into_model().unwrap()
+        };
+        let cpu = until(Simulation::new(&taylor).unwrap());
+        let gpu = until(on_gpu(&taylor));
         let (lc, _) = cpu.projectile_extent();
         let (lg, _) = gpu.projectile_extent();
         assert!(

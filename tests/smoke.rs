@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use penetrate::scene;
-use penetrate::solver::{Entity, Instability, RunError, Simulation, Unstable};
+use penetrate::solver::{Entity, Instability, Model, RunError, Simulation, Unstable};
+use penetrate::{scene, solver};
 
 mod common;
 
@@ -236,6 +236,7 @@ fn lambda_zero_projectile_is_rigid() {
     for _ in 0..300 {
         sim.step().unwrap();
     }
+    let sim = sim.into_model().unwrap();
     assert!(sim.account.contact_dissipated > 0.0, "contact happened");
     let n = &sim.projectile.nodes;
     assert!(n.vr.iter().all(|&v| v == 0.0));
@@ -270,9 +271,10 @@ fn projectile_plastic_work_does_not_depend_on_the_step() {
         ];
         let scene = scene::load(&case("smoke.toml"), &set).unwrap();
         let mut sim = Simulation::new(&scene).unwrap();
-        while sim.time < scene.run.end_time {
+        while sim.time() < scene.run.end_time {
             sim.step().unwrap();
         }
+        let sim = sim.into_model().unwrap();
         (sim.account.plastic_work, sim.max_plastic_strain())
     };
     let (coarse, coarse_strain) = plastic_work("0.25");
@@ -294,7 +296,10 @@ fn projectile_plastic_work_does_not_depend_on_the_step() {
 #[test]
 fn projectile_starts_down_a_lead_hole() {
     let hole = 0.02;
-    let whole = Simulation::new(&scene::load(&case("smoke.toml"), &[]).unwrap()).unwrap();
+    let whole = Simulation::new(&scene::load(&case("smoke.toml"), &[]).unwrap())
+        .unwrap()
+        .into_model()
+        .unwrap();
     let scene = scene::load(
         &case("smoke.toml"),
         &[format!("target.lead_hole_depth={hole}")],
@@ -302,7 +307,7 @@ fn projectile_starts_down_a_lead_hole() {
     .unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     let radius = 0.5 * scene.projectile.diameter as f32;
-    let p = &sim.particles;
+    let p = &sim.model().unwrap().particles;
     assert!((0..p.len()).all(|i| p.r[i] >= radius || p.z[i] <= -hole as f32));
     let removed = in_hole(&whole, radius, hole);
     assert!(removed > 0);
@@ -310,14 +315,16 @@ fn projectile_starts_down_a_lead_hole() {
     // `penetrate check` counts the same particles before anything is built.
     assert_eq!(penetrate::estimate::footprint(&scene).particles, p.len());
     let spacing = scene.target.as_ref().unwrap().spacing;
-    assert!((sim.depth() - (hole - 0.25 * spacing)).abs() < 1e-6);
+    assert!((sim.model().unwrap().depth() - (hole - 0.25 * spacing)).abs() < 1e-6);
     let mut first_hit_depth = None;
     for _ in 0..300 {
         sim.step().unwrap();
-        if first_hit_depth.is_none() && sim.last_hits > 0 {
-            first_hit_depth = Some(sim.depth());
+        let m = sim.model().unwrap();
+        if first_hit_depth.is_none() && m.last_hits > 0 {
+            first_hit_depth = Some(m.depth());
         }
     }
+    let sim = sim.into_model().unwrap();
     let first = first_hit_depth.expect("the nose meets the concrete at the bottom");
     // The first row left is at hole + Δ/2 (no hit before the nose passes the hole's bottom);
     // the sharp tip must pass it by about 1.4 mm more before a particle centre lies inside it.
@@ -330,7 +337,7 @@ fn projectile_starts_down_a_lead_hole() {
 }
 
 /// Particles of an undrilled target whose centres lie in a hole `radius` wide and `hole` deep.
-fn in_hole(whole: &Simulation, radius: f32, hole: f64) -> usize {
+fn in_hole(whole: &Model, radius: f32, hole: f64) -> usize {
     let p = &whole.particles;
     (0..p.len())
         .filter(|&i| p.r[i] < radius && p.z[i] > -hole as f32)
@@ -343,7 +350,10 @@ fn in_hole(whole: &Simulation, radius: f32, hole: f64) -> usize {
 fn a_pilot_hole_leaves_the_nose_at_the_face() {
     let hole = 0.02;
     let diameter = 0.01;
-    let whole = Simulation::new(&scene::load(&case("smoke.toml"), &[]).unwrap()).unwrap();
+    let whole = Simulation::new(&scene::load(&case("smoke.toml"), &[]).unwrap())
+        .unwrap()
+        .into_model()
+        .unwrap();
     let scene = scene::load(
         &case("smoke.toml"),
         &[
@@ -356,17 +366,19 @@ fn a_pilot_hole_leaves_the_nose_at_the_face() {
     let radius = 0.5 * diameter as f32;
     let removed = in_hole(&whole, radius, hole);
     assert!(removed > 0);
-    assert_eq!(sim.particles.len(), whole.particles.len() - removed);
+    let m = sim.model().unwrap();
+    assert_eq!(m.particles.len(), whole.particles.len() - removed);
     assert_eq!(
         penetrate::estimate::footprint(&scene).particles,
-        sim.particles.len()
+        m.particles.len()
     );
-    assert_eq!(sim.depth(), whole.depth());
+    assert_eq!(m.depth(), whole.depth());
     let mut first_hit_depth = None;
     for _ in 0..1500 {
         sim.step().unwrap();
-        if sim.last_hits > 0 {
-            first_hit_depth = Some(sim.depth());
+        let m = sim.model().unwrap();
+        if m.last_hits > 0 {
+            first_hit_depth = Some(m.depth());
             break;
         }
     }
@@ -383,7 +395,7 @@ fn a_pilot_hole_leaves_the_nose_at_the_face() {
 #[test]
 fn shank_damage_leaves_the_nose_out() {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap().into_model().unwrap();
     let spec = &scene.projectile;
     let scene::ProjectileShape::Ogive { crh } = spec.shape else {
         panic!("the smoke projectile is an ogive")
@@ -394,7 +406,7 @@ fn shank_damage_leaves_the_nose_out() {
     let nose = (0..e.len()).find(|&k| centroid(k) < join).unwrap();
     let shank = (0..e.len()).find(|&k| centroid(k) > join).unwrap();
     // (whole projectile, behind the nose) for damage, then plastic strain.
-    let maxima = |sim: &Simulation| {
+    let maxima = |sim: &Model| {
         [
             (sim.max_damage(), sim.max_damage_shank()),
             (sim.max_plastic_strain(), sim.max_plastic_strain_shank()),
@@ -409,12 +421,13 @@ fn shank_damage_leaves_the_nose_out() {
 }
 
 /// The smoke scene 50 steps in, and its deepest projectile node.
-fn smoke_after_50_steps() -> (scene::Scene, Simulation, usize) {
+fn smoke_after_50_steps() -> (scene::Scene, Model, usize) {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     for _ in 0..50 {
         sim.step().unwrap();
     }
+    let sim = sim.into_model().unwrap();
     let n = &sim.projectile.nodes;
     let tip = (0..n.len())
         .min_by(|&a, &b| n.z[a].total_cmp(&n.z[b]))
@@ -459,7 +472,7 @@ fn an_open_failed_element_exerts_nothing_and_sets_no_step() {
     use penetrate::cpu::fem_stress::{self, OPEN_RELATIVE_VOLUME};
     use penetrate::mesh::geometry::Geometry;
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
-    let sim = Simulation::new(&scene).unwrap();
+    let sim = Simulation::new(&scene).unwrap().into_model().unwrap();
     let at_rest = sim.projectile.nodes.clone();
     let mut squeezed = at_rest.clone();
     let z_mid = squeezed.z.iter().sum::<f32>() / squeezed.len() as f32;
@@ -520,13 +533,14 @@ fn nothing_left_to_limit_the_step_stops_the_run() {
     let scene = scene::load(&case("taylor-4340-208.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     sim.step().unwrap();
+    let m = sim.model_mut().unwrap();
     // At rest and unloaded, so that no element is closing.
-    let nodes = &mut sim.projectile.nodes;
+    let nodes = &mut m.projectile.nodes;
     for field in [&mut nodes.vr, &mut nodes.vz, &mut nodes.fr, &mut nodes.fz] {
         field.iter_mut().for_each(|v| *v = 0.0);
     }
-    let n = sim.projectile.nodes.clone();
-    let e = &mut sim.projectile.elements;
+    let n = m.projectile.nodes.clone();
+    let e = &mut m.projectile.elements;
     for k in 0..e.len() {
         let v = Geometry::new(&e.nodes[k], &n.r, &n.z).volume();
         e.volume0[k] = v / (OPEN_RELATIVE_VOLUME + 0.5);
@@ -779,7 +793,7 @@ fn smoke_after_five_steps() -> Simulation {
 fn instability_is_reported_with_what_where_and_when() {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = smoke_after_five_steps();
-    sim.particles.az[7] = f32::NAN;
+    sim.model_mut().unwrap().particles.az[7] = f32::NAN;
     let err = sim.step().unwrap_err();
     // The error is typed: which entity, what, where and when, as data.
     let RunError::Unstable(Instability {
@@ -810,9 +824,10 @@ fn instability_is_reported_with_what_where_and_when() {
 
     let mut sim = Simulation::new(&scene).unwrap();
     // Fold one element inside out: the stress pass must refuse it.
-    let el = sim.projectile.elements.nodes[3];
+    let m = sim.model_mut().unwrap();
+    let el = m.projectile.elements.nodes[3];
     let (a, b) = (el[0] as usize, el[1] as usize);
-    let n = &mut sim.projectile.nodes;
+    let n = &mut m.projectile.nodes;
     (n.r[a], n.r[b], n.z[a], n.z[b]) = (n.r[b], n.r[a], n.z[b], n.z[a]);
     let err = sim.step().unwrap_err();
     assert!(
@@ -857,14 +872,14 @@ fn a_disc_is_not_taken_for_an_escape() {
 fn a_collapsed_step_names_where() {
     let mut sim = smoke_after_five_steps();
     // A Courant number of 1e-7 makes every step about 1e-14 s: below what the run accepts.
-    sim.scene.run.cfl = 1.0e-7;
+    sim.model_mut().unwrap().scene.run.cfl = 1.0e-7;
     let err = sim.step().unwrap_err().to_string();
     assert!(
         err.contains("time step collapsed") && err.contains("step 6"),
         "{err}"
     );
     assert!(err.contains("× run.cfl = 1e-7;"), "{err}");
-    common::assert_smallest_step_named(&sim, &err);
+    common::assert_smallest_step_named(sim.model().unwrap(), &err);
 }
 
 /// The CPU path gives the same bits whatever the thread count: every parallel loop writes only
@@ -882,6 +897,7 @@ fn same_bits_on_one_and_two_threads() {
             for _ in 0..300 {
                 sim.step().unwrap();
             }
+            let sim = sim.into_model().unwrap();
             let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
             (
                 bits(&sim.particles.z),
@@ -1020,12 +1036,13 @@ fn a_failing_stability_row_fails_the_command_and_output_errors_exit_3() {
 }
 
 /// The smoke scene after 20 steps, its energy guard passed, and its impact energy (J).
-fn smoke_after_20_steps() -> (Simulation, f64) {
+fn smoke_after_20_steps() -> (Model, f64) {
     let scene = scene::load(&case("smoke.toml"), &[]).unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     for _ in 0..20 {
         sim.step().unwrap();
     }
+    let sim = sim.into_model().unwrap();
     assert!(sim.check_energy().is_ok(), "{}", sim.energy_error());
     let e0 = 0.5 * (scene.projectile.velocity as f64).powi(2) * sim.projectile.total_mass;
     (sim, e0)
@@ -1353,6 +1370,56 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
         })
         .count();
     assert_eq!(partial, 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The same refusal, as data: which output, its reason, the step and time, and what was kept.
+#[test]
+fn a_refused_output_is_typed() {
+    use penetrate::solver::{Kept, Output, OutputError, OutputFailure, RunOptions};
+    let dir = scratch("disk-full-typed");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::os::unix::fs::symlink("/dev/full", dir.join("projectile_00002.vtu.partial")).unwrap();
+    let set = [
+        "run.end_time=4e-6".to_string(),
+        "run.output_interval=1e-6".to_string(),
+        "run.history_interval=2e-7".to_string(),
+    ];
+    let scene = scene::load(&case("smoke.toml"), &set).unwrap();
+    let mut opts = RunOptions::new(dir.clone());
+    opts.quiet = true;
+    let err = match solver::run(&scene, &opts) {
+        Err(RunError::Output(e)) => *e,
+        Err(e) => panic!("not an output error: {e:?}"),
+        Ok(_) => panic!("the run went through a full disk"),
+    };
+    let OutputError {
+        failure:
+            OutputFailure {
+                what,
+                kind,
+                reason,
+                when: Some(when),
+            },
+        kept: Some(Kept {
+            status,
+            folder,
+            summary,
+        }),
+    } = &err
+    else {
+        panic!("no step or nothing kept: {err:?}");
+    };
+    assert_eq!(*what, Output::Frame(2));
+    assert_eq!(*kind, std::io::ErrorKind::StorageFull);
+    assert!(reason.contains("projectile_00002.vtu"), "{reason}");
+    assert!(
+        (2e-6..3e-6).contains(&when.time) && when.step > 0,
+        "{when:?}"
+    );
+    assert!(status.starts_with("output failed at step"), "{status}");
+    assert_eq!(folder, &dir);
+    assert_eq!(summary, &Ok(()));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -592,7 +592,7 @@ fn malformed_sweeps_are_refused() {
     }
 }
 
-/// The damaged area of `history.csv` (`Simulation::damage_area`): with every element fully
+/// The damaged area of `history.csv` (`Model::damage_area`): with every element fully
 /// damaged it is the projectile's r–z half-section, the area under its outline; at half damage,
 /// half of it; undamaged, +0.
 #[test]
@@ -601,7 +601,7 @@ fn damage_area_of_a_fully_damaged_projectile_is_its_section() {
     use penetrate::solver::Simulation;
 
     let scene = scene::load(&root().join("cases/smoke.toml"), &[]).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap().into_model().unwrap();
     // +0, not −0: the history prints it, and "-0e0" there reads as a fault.
     assert!(sim.damage_area() == 0.0 && sim.damage_area().is_sign_positive());
     // The smoke projectile: a = 10 mm shank radius, 60 mm long, CRH ψ = 2: the ogive's arc

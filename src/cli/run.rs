@@ -108,7 +108,7 @@ pub fn run(args: RunArgs) -> ExitCode {
                 fail(1, &s.status)
             }
         }
-        Err(solver::RunError::Io(m)) => fail(3, &m),
+        Err(solver::RunError::Output(e)) => fail(3, &e.to_string()),
         Err(solver::RunError::Setup(m)) => fail(2, &format!("{}: {m}", case.display())),
         Err(solver::RunError::Gpu { error, when: None }) => {
             fail(2, &format!("{}: {error}", case.display()))

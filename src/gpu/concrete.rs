@@ -73,15 +73,15 @@ pub(crate) mod tests {
     use crate::gpu::shader::{self, hjc_parts, Part};
     use crate::gpu::{run_once, test_gpu};
     use crate::materials::hjc::{self, Hjc};
-    use crate::solver::Simulation;
+    use crate::solver::{Model, Simulation};
 
     /// Steps of the smoke scene before a comparison: the nose reaches the first particles
     /// after ~150 steps, so at 400 (t ≈ 19 µs, 5 mm deep) particles are crushed, yielding and
     /// damaged, and the viscosity acts.
     pub(crate) const SMOKE_STEPS: usize = 400;
 
-    /// The smoke scene with `overrides`, after `steps` steps.
-    pub(crate) fn smoke(steps: usize, overrides: &[String]) -> Simulation {
+    /// The smoke scene with `overrides` on the CPU, after `steps` steps.
+    pub(crate) fn smoke_run(steps: usize, overrides: &[String]) -> Simulation {
         let scene = crate::scene::load(std::path::Path::new("cases/smoke.toml"), overrides)
             .expect("smoke case");
         let mut sim = Simulation::new(&scene).expect("smoke builds");
@@ -89,6 +89,13 @@ pub(crate) mod tests {
             sim.step().expect("smoke steps");
         }
         sim
+    }
+
+    /// The state of [`smoke_run`].
+    pub(crate) fn smoke(steps: usize, overrides: &[String]) -> Model {
+        smoke_run(steps, overrides)
+            .into_model()
+            .expect("smoke's state")
     }
 
     /// Largest |a − b| relative to the largest |b| of the field; infinite where a value is

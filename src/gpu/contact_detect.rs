@@ -113,9 +113,10 @@ mod tests {
         let mut sim = Simulation::new(&scene).expect("smoke builds");
         // Step until the nose is in; then move the particles by one more integration without
         // the correction, so that slaves sit inside the projectile.
-        while sim.last_hits == 0 {
+        while sim.model().expect("smoke's state").last_hits == 0 {
             sim.step().expect("smoke steps");
         }
+        let mut sim = sim.into_model().expect("smoke's state");
         let sph = sim.sph.unwrap();
         crate::cpu::integrate::particles(&mut sim.particles, &sph, sim.dt, 1.0e3).unwrap();
         crate::cpu::integrate::nodes(&mut sim.projectile.nodes, sim.dt, None, 1.0e3).unwrap();

@@ -88,7 +88,7 @@ mod tests {
     use crate::gpu::{run_once, test_gpu};
     use crate::materials::johnson_cook::FlowLaw;
     use crate::materials::zerilli_armstrong::ZaFcc;
-    use crate::solver::Simulation;
+    use crate::solver::{Model, Simulation};
     use crate::state::{Elements, FemParams, Nodes};
 
     /// CPU steps of the coarse Taylor bar before a comparison: the bar touches the wall after
@@ -98,7 +98,7 @@ mod tests {
 
     /// The Taylor bar (4340 Rc 30 onto a rigid wall, damage on) at radius/4 elements (400
     /// triangles, so the CPU steps take well under a second), after `steps` steps.
-    fn taylor(steps: usize) -> Simulation {
+    fn taylor(steps: usize) -> Model {
         let scene = crate::scene::load(
             std::path::Path::new("cases/taylor-4340-208.toml"),
             &["projectile.element_size=0.001".into()],
@@ -108,7 +108,7 @@ mod tests {
         for _ in 0..steps {
             sim.step().expect("taylor steps");
         }
-        sim
+        sim.into_model().expect("taylor's state")
     }
 
     /// Evaluates the laws of johnson_cook.wgsl and steel_eos.wgsl on a list of cases, 8 inputs
@@ -442,7 +442,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     /// from a trial CPU pass, a few yielding elements put just below D = 1 (by half their
     /// damage increment, far beyond round-off) so they fail by damage, an elastic one under a
     /// mean tension of 1.5 σ_spall so it spalls, and two already failed.
-    fn prepared_state(sim: &Simulation) -> Elements {
+    fn prepared_state(sim: &Model) -> Elements {
         let mut e = sim.projectile.elements.clone();
         let mut trial = e.clone();
         crate::cpu::fem_stress::run(&mut trial, &sim.projectile.nodes, &sim.fem, sim.dt)

@@ -130,19 +130,19 @@ mod tests {
     use crate::gpu::state::GpuElements;
     use crate::gpu::timestep::TimestepPass;
     use crate::gpu::{run_once, test_gpu};
-    use crate::solver::Simulation;
+    use crate::solver::{Model, Simulation};
 
-    fn smoke(steps: usize) -> Simulation {
+    fn smoke(steps: usize) -> Model {
         let scene =
             crate::scene::load(std::path::Path::new("cases/smoke.toml"), &[]).expect("smoke case");
         let mut sim = Simulation::new(&scene).expect("smoke builds");
         for _ in 0..steps {
             sim.step().expect("smoke steps");
         }
-        sim
+        sim.into_model().expect("smoke's state")
     }
 
-    fn uniform(sim: &Simulation) -> StepUniform {
+    fn uniform(sim: &Model) -> StepUniform {
         let sph = sim.sph.expect("smoke has a target");
         StepUniform {
             n_particles: sim.particles.len() as u32,

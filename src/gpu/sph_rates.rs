@@ -92,7 +92,7 @@ impl SphRatesPass {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::concrete::tests::{field_error, smoke, SMOKE_STEPS};
+    use crate::gpu::concrete::tests::{field_error, smoke, smoke_run, SMOKE_STEPS};
     use crate::gpu::neighbours::tests::upload_cpu_grid;
     use crate::gpu::params::SphUniform;
     use crate::gpu::{run_once, test_gpu};
@@ -245,7 +245,8 @@ mod tests {
     fn sph_rates_on_stale_lists_match_cpu() {
         use crate::gpu::neighbours::{capacity, NeighboursPass, MOVED2_OFFSET};
         let gpu = test_gpu();
-        let mut sim = smoke(SMOKE_STEPS, &[]);
+        let mut run = smoke_run(SMOKE_STEPS, &[]);
+        let sim = run.model().unwrap();
         let sph = sim.sph.expect("smoke has a target");
         let support = sph.kernel.support();
         let skin = 0.5;
@@ -265,10 +266,11 @@ mod tests {
                 .fold(0.0f32, f32::max)
         };
         let mut steps = 0;
-        while moved(&sim.particles) < 0.5 * slack && steps < 200 {
-            sim.step().unwrap();
+        while moved(&run.model().unwrap().particles) < 0.5 * slack && steps < 200 {
+            run.step().unwrap();
             steps += 1;
         }
+        let sim = run.into_model().unwrap();
         let now = sim.particles.clone();
         let d = moved(&now);
         eprintln!("stale lists: {steps} steps later, largest move {d:e} m, slack {slack:e} m");

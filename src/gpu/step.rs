@@ -757,7 +757,7 @@ mod tests {
         )
         .unwrap();
         let mut sim = crate::solver::build(&scene, crate::scene::Backend::Gpu, None).unwrap();
-        let support = sim.sph.unwrap().kernel.support();
+        let support = sim.model().unwrap().sph.unwrap().kernel.support();
         let mut checked = 0;
         for step in 0..400 {
             sim.step().unwrap();

@@ -7,9 +7,11 @@ pub mod summary;
 pub mod vtk;
 
 /// Creates an output folder (and its parents), or says which one could not be made and why.
-pub fn create_folder(dir: &std::path::Path) -> Result<(), String> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("cannot create the output folder {} ({e})", dir.display()))
+pub fn create_folder(dir: &std::path::Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        let message = format!("cannot create the output folder {} ({e})", dir.display());
+        std::io::Error::new(e.kind(), message)
+    })
 }
 
 /// Removes what an earlier run left in `dir` that this one may not overwrite: its

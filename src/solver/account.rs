@@ -1,9 +1,9 @@
 //! The energy and momentum account: what the state holds, what the run has booked, and the
 //! guard that stops a run whose account has come apart.
 
-use super::{Entity, Instability, Moving, RunError, Simulation, Unstable};
+use super::{Entity, Instability, Model, Moving, RunError, Unstable};
 
-impl Simulation {
+impl Model {
     pub fn kinetic_energy(&self) -> f64 {
         let p = &self.particles;
         let n = &self.projectile.nodes;

@@ -1,18 +1,17 @@
 //! Building a simulation: the meshes, the state, the pass list and the first forces, on the
 //! backend asked for.
 
-use super::cpu_step::CpuStepper;
 use super::gpu_step::GpuStepper;
-use super::{Account, RunError, Simulation};
+use super::{Account, Model, RunError, Simulation};
 use crate::cpu::neighbours::CellGrid;
 use crate::gpu::step::{GpuStep, StepSetup};
 use crate::mesh;
 use crate::scene::{Backend, Scene};
 use crate::state::{FemParams, Particles, Projectile, SphParams};
 
-impl Simulation {
+impl Model {
     /// Build the meshes, the state and the pass list, at rest before the first forces.
-    pub(super) fn assemble(scene: &Scene) -> Result<Simulation, RunError> {
+    pub(super) fn assemble(scene: &Scene) -> Result<Model, RunError> {
         crate::estimate::check_fits(scene).map_err(RunError::Setup)?;
         // Built with the world's `origin_z` at z = 0, added back in frames and messages
         // (`world_z`): f32 positions resolve a step's motion only near the origin (a Taylor bar
@@ -61,7 +60,7 @@ impl Simulation {
             + spec.length
             + 0.5 * spec.diameter
             + spec.nose_z.abs();
-        let mut sim = Simulation {
+        let mut sim = Model {
             scene: scene.clone(),
             particles,
             sph,
@@ -77,7 +76,6 @@ impl Simulation {
             last_hits: 0,
             wall_z: scene.wall.as_ref().map(|_| 0.0),
             escape: (20.0 * extent) as f32,
-            stepper: Box::new(CpuStepper),
             shank,
             on_nose,
             adapter: "none (CPU reference path)".into(),
@@ -94,30 +92,34 @@ impl Simulation {
         self.dt = self.stable_dt()?;
         Ok(())
     }
+}
 
-    /// Move the step onto a GPU adapter (`name`: part of its name, or the best one). The
-    /// state built by `new` is uploaded; from here on `step` runs there.
+impl Simulation {
+    /// Move the step onto a GPU adapter. The state as it stands is uploaded; from here on
+    /// `step` runs there.
     pub fn use_gpu(&mut self, gpu: crate::gpu::Gpu) -> Result<(), RunError> {
         let adapter = gpu.adapter_name();
+        let m = self.current(super::Fresh::Full)?;
         let setup = StepSetup {
-            particles: self.sph.as_ref().map(|sp| (&self.particles, sp)),
-            projectile: &self.projectile,
-            fem: &self.fem,
-            passes: &self.passes,
-            slaves: &self.slaves,
-            wall_z: self.wall_z,
-            escape: self.escape,
-            cfl: self.scene.run.cfl as f32,
-            dt: self.dt,
+            particles: m.sph.as_ref().map(|sp| (&m.particles, sp)),
+            projectile: &m.projectile,
+            fem: &m.fem,
+            passes: &m.passes,
+            slaves: &m.slaves,
+            wall_z: m.wall_z,
+            escape: m.escape,
+            cfl: m.scene.run.cfl as f32,
+            dt: m.dt,
             list_skin: crate::gpu::step::LIST_SKIN,
         };
         let step =
             GpuStep::new(gpu, &setup).map_err(|error| RunError::Gpu { error, when: None })?;
+        let base = m.account;
+        m.adapter = adapter;
         self.stepper = Box::new(GpuStepper {
             step: Box::new(step),
-            base: self.account,
+            base,
         });
-        self.adapter = adapter;
         Ok(())
     }
 }

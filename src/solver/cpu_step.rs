@@ -1,7 +1,7 @@
 //! The step on the CPU reference path, and what both backends share of it: the λ correction
 //! of the hits and the checks on the next Δt.
 
-use super::{Account, Entity, Instability, Pass, RunError, Simulation, Stepper, Unstable, When};
+use super::{Account, Entity, Instability, Model, Pass, RunError, Stepper, Unstable, When};
 use crate::contact::{self, ContactBodies, Hit};
 use crate::cpu;
 use crate::gpu::step::Sync;
@@ -12,20 +12,24 @@ use crate::state::Projectile;
 pub struct CpuStepper;
 
 impl Stepper for CpuStepper {
-    fn step(&mut self, sim: &mut Simulation) -> Result<(), RunError> {
-        sim.step_cpu()
+    fn step(&mut self, model: &mut Model) -> Result<(), RunError> {
+        model.step_cpu()
     }
 
-    fn sync(&mut self, _: &mut Simulation, _: Sync) -> Result<(), RunError> {
+    fn sync(&mut self, _: &mut Model, _: Sync) -> Result<(), RunError> {
         Ok(())
     }
 
     fn backend(&self) -> &'static str {
         "cpu"
     }
+
+    fn keeps_host_current(&self) -> bool {
+        true
+    }
 }
 
-impl Simulation {
+impl Model {
     /// One explicit step on the CPU: velocities and positions, contact, then rates, stresses
     /// and forces at the new configuration, then the next Δt.
     pub(super) fn step_cpu(&mut self) -> Result<(), RunError> {

@@ -1,12 +1,12 @@
 //! What is measured of the state: the body's depth and extent, damage and strain, why a run
 //! should stop, non-finite values, the fastest entity and the site of the smallest step.
 
-use super::{Pass, Simulation};
+use super::{Fresh, Model, Pass, RunError, Simulation};
 use crate::cpu;
 
-impl Simulation {
+impl Model {
     /// Penetration depth: how far the nose tip is beyond the original front face z = 0 (m).
-    /// The tip is the deepest node of the body ([`Simulation::attached_nodes`]): debris, free
+    /// The tip is the deepest node of the body ([`Model::attached_nodes`]): debris, free
     /// to run ahead of the body, is not the nose.
     pub fn depth(&self) -> f64 {
         self.body_bounds().depth
@@ -18,7 +18,7 @@ impl Simulation {
     }
 
     /// (length along z, largest radius) of the projectile, over its attached nodes (as
-    /// [`Simulation::depth`]).
+    /// [`Model::depth`]).
     pub fn projectile_extent(&self) -> (f64, f64) {
         let b = self.body_bounds();
         (b.length, b.radius)
@@ -270,7 +270,7 @@ impl Simulation {
 
     /// Count the slaves left inside the projectile (beyond 10⁻⁴ of an element: round-off of
     /// the correction's projection) and book the worst in the account.
-    pub fn check_slaves_inside(&mut self) {
+    pub(super) fn check_slaves_inside(&mut self) {
         if self.slaves.is_empty() {
             return;
         }
@@ -288,7 +288,7 @@ impl Simulation {
     }
 }
 
-/// The body's depth beyond the target's face and its extent (m, [`Simulation::body_bounds`]).
+/// The body's depth beyond the target's face and its extent (m, [`Model::body_bounds`]).
 pub(super) struct BodyBounds {
     pub(super) depth: f64,
     pub(super) length: f64,
@@ -350,4 +350,13 @@ pub(super) fn body_nodes(
     (0..n_nodes)
         .map(|i| held[i] && root(&mut parent, i) == body)
         .collect()
+}
+
+impl Simulation {
+    /// [`Model::check_slaves_inside`] on the positions a history row reads, brought up to
+    /// date first.
+    pub(super) fn check_slaves_inside(&mut self) -> Result<(), RunError> {
+        self.current(Fresh::History)?.check_slaves_inside();
+        Ok(())
+    }
 }

@@ -2,6 +2,7 @@
 //! which step and time. `Display` gives the message a run's status and the command line carry.
 
 use std::fmt;
+use std::path::PathBuf;
 
 use super::MIN_STEP;
 use crate::gpu::GpuError;
@@ -15,8 +16,9 @@ pub enum RunError {
     Gpu { error: GpuError, when: Option<When> },
     /// The run went unstable: what, where and when.
     Unstable(Instability),
-    /// Output could not be written.
-    Io(String),
+    /// An output could not be written (boxed: the other kinds are small, and every step
+    /// returns this type).
+    Output(Box<OutputError>),
 }
 
 impl fmt::Display for RunError {
@@ -29,12 +31,18 @@ impl fmt::Display for RunError {
                 when: Some(w),
             } => write!(f, "GPU failed {w}: {error}"),
             RunError::Unstable(i) => write!(f, "unstable: {i}"),
-            RunError::Io(m) => write!(f, "output: {m}"),
+            RunError::Output(e) => write!(f, "output: {e}"),
         }
     }
 }
 
 impl std::error::Error for RunError {}
+
+impl From<OutputError> for RunError {
+    fn from(e: OutputError) -> RunError {
+        RunError::Output(Box::new(e))
+    }
+}
 
 impl From<Instability> for RunError {
     fn from(i: Instability) -> RunError {
@@ -171,5 +179,98 @@ impl fmt::Display for Moving {
             "{} at (r {:.4e}, z {:.4e}) m, {:.3e} m/s",
             self.entity, self.r, self.z, self.speed
         )
+    }
+}
+
+/// Which output the disk refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// The output folder itself.
+    Folder,
+    /// What an earlier run left in the folder, cleared before this run writes.
+    Previous,
+    /// The resolved scene, `scene.toml`.
+    Scene,
+    /// `history.csv`.
+    History,
+    /// The VTK frame of this number, or `frames.pvd` as it lists it.
+    Frame(usize),
+    /// `summary.json`.
+    Summary,
+}
+
+/// An output the disk refused: which, the system's reason (naming the file), and when.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputFailure {
+    pub what: Output,
+    pub kind: std::io::ErrorKind,
+    pub reason: String,
+    /// The step the run had reached; `None` before it started stepping.
+    pub when: Option<When>,
+}
+
+impl OutputFailure {
+    /// `what` refused with `e`, at `when`.
+    pub fn new(what: Output, e: &std::io::Error, when: Option<When>) -> OutputFailure {
+        OutputFailure {
+            what,
+            kind: e.kind(),
+            reason: e.to_string(),
+            when,
+        }
+    }
+}
+
+impl fmt::Display for OutputFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.when {
+            Some(w) => write!(f, "output failed {w}: {}", self.reason),
+            None => write!(f, "{}", self.reason),
+        }
+    }
+}
+
+/// What a run the disk stopped kept of its outputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Kept {
+    /// The run's status: why it stopped, the refused write included.
+    pub status: String,
+    /// Its output folder, where what was written stays.
+    pub folder: PathBuf,
+    /// Whether `summary.json` was written too, or why not.
+    pub summary: Result<(), String>,
+}
+
+/// An output failure, and what the run kept when it had started.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputError {
+    pub failure: OutputFailure,
+    pub kept: Option<Kept>,
+}
+
+impl From<OutputFailure> for OutputError {
+    fn from(failure: OutputFailure) -> OutputError {
+        OutputError {
+            failure,
+            kept: None,
+        }
+    }
+}
+
+impl fmt::Display for OutputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Some(k) = &self.kept else {
+            return write!(f, "{}", self.failure);
+        };
+        write!(
+            f,
+            "{}; what was written is kept in {}",
+            k.status,
+            k.folder.display()
+        )?;
+        match &k.summary {
+            Ok(()) => write!(f, ", with summary.json"),
+            Err(e) => write!(f, "; summary.json could not be written: {e}"),
+        }
     }
 }

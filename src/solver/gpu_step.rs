@@ -2,7 +2,7 @@
 //! there in the next submission (gpu::step).
 
 use super::cpu_step::{collapsed, correct_contact, Slaves};
-use super::{Account, Entity, Instability, Pass, RunError, Simulation, Stepper, Unstable};
+use super::{Account, Entity, Instability, Model, Pass, RunError, Stepper, Unstable};
 use crate::contact::Hit;
 use crate::gpu::step::{GpuStep, Sync};
 
@@ -15,11 +15,11 @@ pub struct GpuStepper {
 }
 
 impl Stepper for GpuStepper {
-    fn step(&mut self, sim: &mut Simulation) -> Result<(), RunError> {
-        sim.step_gpu(&mut self.step)
+    fn step(&mut self, model: &mut Model) -> Result<(), RunError> {
+        model.step_gpu(&mut self.step)
     }
 
-    fn sync(&mut self, sim: &mut Simulation, what: Sync) -> Result<(), RunError> {
+    fn sync(&mut self, sim: &mut Model, what: Sync) -> Result<(), RunError> {
         let t = self
             .step
             .download(&mut sim.particles, &mut sim.projectile, what)
@@ -39,6 +39,10 @@ impl Stepper for GpuStepper {
         "gpu"
     }
 
+    fn keeps_host_current(&self) -> bool {
+        false
+    }
+
     fn gpu(&mut self) -> Option<&mut GpuStep> {
         Some(&mut self.step)
     }
@@ -48,7 +52,7 @@ impl Stepper for GpuStepper {
     }
 }
 
-impl Simulation {
+impl Model {
     /// One step on the GPU: up to contact detection there, the correction here, and the rest
     /// there in the next submission (gpu::step).
     pub(super) fn step_gpu(&mut self, g: &mut GpuStep) -> Result<(), RunError> {

@@ -1,10 +1,12 @@
 //! The explicit coupled step (physics.md §5) and the run loop: stop conditions, energy and
 //! momentum account, outputs.
 //!
-//! `Simulation` holds the model and its state; a [`Stepper`] advances it, on the CPU
-//! reference path (`cpu_step`) or on the GPU (`gpu_step`). Building (`build`), the energy
-//! account (`account`), what is measured of the state (`diagnostics`), what is written
-//! (`outputs`) and the run loop (`run`) have their own modules.
+//! A [`Simulation`] is a [`Model`] (the meshes, the state, the pass list) and the [`Stepper`]
+//! that advances it, on the CPU reference path (`cpu_step`) or on the GPU (`gpu_step`). The
+//! model is reached only through [`Simulation::model`], which brings the host's copy up to
+//! date first, so what a caller reads is never stale. Building (`build`), the energy account
+//! (`account`), what is measured of the state (`diagnostics`), what is written (`outputs`) and
+//! the run loop (`run`) have their own modules.
 
 mod account;
 mod build;
@@ -18,7 +20,9 @@ mod run;
 pub use account::ENERGY_GUARD;
 pub use build::build;
 pub use cpu_step::MIN_STEP;
-pub use error::{Entity, Instability, Moving, RunError, Unstable, When};
+pub use error::{
+    Entity, Instability, Kept, Moving, Output, OutputError, OutputFailure, RunError, Unstable, When,
+};
 pub use run::{run, RunOptions, RunOutcome, SCENE_FILE};
 
 use crate::cpu::neighbours::CellGrid;
@@ -27,16 +31,17 @@ use crate::pass::Pass;
 use crate::scene::Scene;
 use crate::state::{FemParams, Particles, Projectile, SphParams};
 
-/// What advances a [`Simulation`] by one step: the CPU reference path or the GPU. Everything
-/// else (the run loop, the studies, the outputs) drives a simulation through
-/// `Simulation::step` and `Simulation::sync`, whichever stepper it has.
+/// What advances a [`Model`] by one step: the CPU reference path or the GPU.
 pub trait Stepper {
-    /// One explicit step of `sim`.
-    fn step(&mut self, sim: &mut Simulation) -> Result<(), RunError>;
+    /// One explicit step of `model`.
+    fn step(&mut self, model: &mut Model) -> Result<(), RunError>;
     /// Bring the host's copy of what `what` covers up to date (nothing to do on the CPU).
-    fn sync(&mut self, sim: &mut Simulation, what: Sync) -> Result<(), RunError>;
+    fn sync(&mut self, model: &mut Model, what: Sync) -> Result<(), RunError>;
     /// "cpu" or "gpu".
     fn backend(&self) -> &'static str;
+    /// Whether a step leaves the host's copy of the state current (the CPU's, which is the
+    /// state itself).
+    fn keeps_host_current(&self) -> bool;
     /// The GPU step, when there is one.
     fn gpu(&mut self) -> Option<&mut GpuStep> {
         None
@@ -71,8 +76,18 @@ pub struct Account {
     pub max_dt: f64,
 }
 
-/// The whole model and its state.
-pub struct Simulation {
+/// How much of the host's copy of a GPU run's state is current, least first. A GPU step
+/// leaves the projectile's nodes current (the λ correction reads them), `Sync::History`
+/// what a history row reads, `Sync::Full` everything.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Fresh {
+    Nodes,
+    History,
+    Full,
+}
+
+/// The meshes, the state and the pass list: what a [`Stepper`] advances and the outputs read.
+pub struct Model {
     pub scene: Scene,
     pub particles: Particles,
     pub sph: Option<SphParams>,
@@ -90,8 +105,6 @@ pub struct Simulation {
     /// The wall, a Taylor scene's: the model's z = 0 ([`Scene::origin_z`]).
     wall_z: Option<f32>,
     escape: f32,
-    /// What steps the model: the CPU path until `use_gpu`.
-    stepper: Box<dyn Stepper>,
     /// Elements whose centroid started behind the nose (in the shank): a shell's wall.
     shank: Vec<u32>,
     /// Per master segment: whether it started on the nose (`nose_masters`).
@@ -100,12 +113,62 @@ pub struct Simulation {
     pub adapter: String,
 }
 
+/// A model and what steps it: the CPU reference path until [`Simulation::use_gpu`].
+pub struct Simulation {
+    model: Model,
+    stepper: Box<dyn Stepper>,
+    /// What of `model` is current on the host.
+    fresh: Fresh,
+}
+
 impl Simulation {
     /// Build the meshes, the state and the pass list, and evaluate the first forces and Δt.
     pub fn new(scene: &Scene) -> Result<Simulation, RunError> {
-        let mut sim = Simulation::assemble(scene)?;
-        sim.start()?;
-        Ok(sim)
+        let mut model = Model::assemble(scene)?;
+        model.start()?;
+        Ok(Simulation::on_cpu(model))
+    }
+
+    /// A started model on the CPU reference path.
+    fn on_cpu(model: Model) -> Simulation {
+        Simulation {
+            model,
+            stepper: Box::new(cpu_step::CpuStepper),
+            fresh: Fresh::Full,
+        }
+    }
+
+    /// The model, its host copy brought up to date first (GPU runs: a read-back).
+    pub fn model(&mut self) -> Result<&Model, RunError> {
+        self.current(Fresh::Full).map(|m| &*m)
+    }
+
+    /// The model, to edit its state before it steps on: on the CPU path only, since the GPU
+    /// steps its own copy of the state and would not see the edit.
+    pub fn model_mut(&mut self) -> Result<&mut Model, RunError> {
+        if !self.stepper.keeps_host_current() {
+            return Err(RunError::Setup(format!(
+                "the state of a run on the {} cannot be edited: it steps its own copy",
+                self.stepper.backend()
+            )));
+        }
+        Ok(&mut self.model)
+    }
+
+    /// The model, its host copy brought up to date, without what stepped it.
+    pub fn into_model(mut self) -> Result<Model, RunError> {
+        self.current(Fresh::Full)?;
+        Ok(self.model)
+    }
+
+    /// Simulated time at the start of the next step (s); current on every backend.
+    pub fn time(&self) -> f64 {
+        self.model.time
+    }
+
+    /// Steps taken; current on every backend.
+    pub fn steps(&self) -> u64 {
+        self.model.step
     }
 
     /// The GPU step, when the run is on the GPU (bench: profiling and memory).
@@ -123,16 +186,31 @@ impl Simulation {
         self.stepper.backend()
     }
 
-    /// Bring the CPU copy of the state up to date (GPU runs; nothing to do on the CPU).
-    pub fn sync(&mut self) -> Result<(), RunError> {
-        self.sync_part(Sync::Full)
+    /// One explicit step: velocities and positions, contact, then rates, stresses and forces at
+    /// the new configuration, then the next Δt (on whichever backend steps the model).
+    pub fn step(&mut self) -> Result<(), RunError> {
+        let stepped = self.stepper.step(&mut self.model);
+        if !self.stepper.keeps_host_current() {
+            self.fresh = Fresh::Nodes;
+        }
+        stepped
     }
 
-    /// Bring up to date what `history_row` reads (GPU runs): the rest may be stale.
-    pub fn sync_history(&mut self) -> Result<(), RunError> {
-        self.sync_part(Sync::History)
+    /// The model with at least `need` of its host copy current.
+    fn current(&mut self, need: Fresh) -> Result<&mut Model, RunError> {
+        if self.fresh < need {
+            let what = match need {
+                Fresh::Full => Sync::Full,
+                Fresh::History | Fresh::Nodes => Sync::History,
+            };
+            self.stepper.sync(&mut self.model, what)?;
+            self.fresh = need;
+        }
+        Ok(&mut self.model)
     }
+}
 
+impl Model {
     /// The step being taken and the time it started at, for a message.
     fn when(&self) -> When {
         When {
@@ -143,25 +221,5 @@ impl Simulation {
 
     fn has(&self, pass: Pass) -> bool {
         self.passes.contains(&pass)
-    }
-
-    /// One explicit step: velocities and positions, contact, then rates, stresses and forces at
-    /// the new configuration, then the next Δt (on whichever backend steps the model).
-    pub fn step(&mut self) -> Result<(), RunError> {
-        self.with_stepper(|s, sim| s.step(sim))
-    }
-
-    /// Bring up to date the host's copy of the state that `what` covers (GPU runs).
-    fn sync_part(&mut self, what: Sync) -> Result<(), RunError> {
-        self.with_stepper(|s, sim| s.sync(sim, what))
-    }
-
-    /// Run `f` with the stepper taken out of the model it steps (a `CpuStepper`, which holds
-    /// nothing, stands in meanwhile).
-    fn with_stepper<T>(&mut self, f: impl FnOnce(&mut dyn Stepper, &mut Simulation) -> T) -> T {
-        let mut stepper = std::mem::replace(&mut self.stepper, Box::new(cpu_step::CpuStepper));
-        let out = f(stepper.as_mut(), self);
-        self.stepper = stepper;
-        out
     }
 }

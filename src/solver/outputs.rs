@@ -2,13 +2,13 @@
 
 use std::path::Path;
 
-use super::{Pass, Simulation};
+use super::{Fresh, Model, Pass, RunError, Simulation, Stepper};
 use crate::cpu;
 use crate::output::history::Row;
 use crate::output::summary::{EnergySummary, Summary};
 use crate::output::vtk;
 
-impl Simulation {
+impl Model {
     pub(super) fn history_row(&self) -> Row {
         let body = self.body_bounds();
         Row {
@@ -115,14 +115,21 @@ impl Simulation {
             .collect()
     }
 
-    pub fn summary(&self, status: &str, stop_reason: &str, wall_s: f64) -> Summary {
+    /// The run's summary, with where it stepped (`stepper`).
+    pub(super) fn summary(
+        &self,
+        status: &str,
+        stop_reason: &str,
+        wall_s: f64,
+        stepper: &dyn Stepper,
+    ) -> Summary {
         let body = self.body_bounds();
         let a = &self.account;
         Summary {
             scene: self.scene.name.clone(),
             status: status.to_string(),
             stop_reason: stop_reason.to_string(),
-            backend: self.backend().into(),
+            backend: stepper.backend().into(),
             adapter: self.adapter.clone(),
             solver_build: crate::output::summary::build_id().into(),
             depth_m: body.depth,
@@ -155,7 +162,7 @@ impl Simulation {
                 contact_dissipated: a.contact_dissipated,
                 wall_dissipated: a.wall_dissipated,
             },
-            passes: self.pass_names(self.backend()),
+            passes: self.pass_names(stepper.backend()),
             min_dt_s: if a.min_dt == f64::MAX { 0.0 } else { a.min_dt },
             max_dt_s: a.max_dt,
             max_slave_penetration_m: a.max_penetration as f64,
@@ -164,7 +171,33 @@ impl Simulation {
             particles_at_density_floor: self.particles_at_density_floor(),
             max_speed_m_s: self.max_speed(),
             max_residual_penetration_m: a.max_residual_penetration as f64,
-            neighbour_list_builds: self.gpu_builds(),
+            neighbour_list_builds: stepper.builds().unwrap_or(0),
         }
+    }
+}
+
+impl Simulation {
+    /// The history row of the state as it stands (what it reads brought up to date first).
+    pub(super) fn history_row(&mut self) -> Result<Row, RunError> {
+        Ok(self.current(Fresh::History)?.history_row())
+    }
+
+    /// Write one VTK frame, the state brought up to date first: a read-back that fails is the
+    /// outer error, a write the inner one.
+    pub(super) fn write_frame(
+        &mut self,
+        dir: &Path,
+        frame: usize,
+        pvd: &mut vtk::Collection,
+    ) -> Result<std::io::Result<()>, RunError> {
+        Ok(self.current(Fresh::Full)?.write_frame(dir, frame, pvd))
+    }
+
+    /// The run's summary, the host's copy of the state brought up to date first; where that
+    /// read-back fails, of the copy as it stands (`status` says what failed).
+    pub(super) fn summary(&mut self, status: &str, stop_reason: &str, wall_s: f64) -> Summary {
+        let _ = self.current(Fresh::Full);
+        self.model
+            .summary(status, stop_reason, wall_s, self.stepper.as_ref())
     }
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::build::attach;
-use super::{RunError, Simulation};
+use super::{Kept, Model, Output, OutputError, OutputFailure, RunError, Simulation};
 use crate::mesh;
 use crate::output;
 use crate::output::history::History;
@@ -52,46 +52,60 @@ pub struct RunOutcome {
 /// Run a scene to its end, writing the outputs as it goes. An unstable run stops, says what and
 /// where in `status`, and keeps what it had written. So does a run whose outputs the disk stops
 /// taking, as far as the disk lets it: its files end whole, `summary.json` is written where it
-/// fits, and it returns [`RunError::Io`] saying where, when and what was kept.
+/// fits, and it returns [`RunError::Output`] saying which output, when, and what was kept.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
-    let io = |e: std::io::Error| RunError::Io(e.to_string());
-    output::create_folder(&opts.out).map_err(RunError::Io)?;
-    output::clear_previous_run(&opts.out).map_err(|e| io(output::named(&opts.out, e)))?;
+    // A refusal before the run steps: there is nothing of it to keep yet.
+    let early = |what: Output| {
+        move |e: std::io::Error| {
+            RunError::from(OutputError::from(OutputFailure::new(what, &e, None)))
+        }
+    };
+    output::create_folder(&opts.out).map_err(early(Output::Folder))?;
+    output::clear_previous_run(&opts.out)
+        .map_err(|e| early(Output::Previous)(output::named(&opts.out, e)))?;
     // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
     let resolved = scene.resolved_table();
-    output::write_whole(&opts.out.join(SCENE_FILE), resolved.as_bytes()).map_err(io)?;
+    output::write_whole(&opts.out.join(SCENE_FILE), resolved.as_bytes())
+        .map_err(early(Output::Scene))?;
     let started = Instant::now();
     let backend = opts.backend.unwrap_or(scene.run.backend);
     let history_file = opts.out.join("history.csv");
-    let mut sim = Simulation::assemble(scene)?;
-    if let Err(e) = sim.start() {
+    let mut model = Model::assemble(scene)?;
+    let started_up = model.start();
+    let mut sim = Simulation::on_cpu(model);
+    if let Err(e) = started_up {
         // The scene as built cannot take a step (its first forces or Δt, on the CPU): the
         // state at rest and why, as any unstable run leaves them.
-        let mut history = History::create(&history_file).map_err(io)?;
-        history.write(&sim.history_row()).map_err(io)?;
-        history.flush().map_err(io)?;
+        let mut history = History::create(&history_file).map_err(early(Output::History))?;
+        history
+            .write(&sim.history_row()?)
+            .and_then(|()| history.flush())
+            .map_err(early(Output::History))?;
         let status = format!("{e} (before the first step, evaluated on the CPU)");
         let summary = sim.summary(&status, "", started.elapsed().as_secs_f64());
-        write_summary(&opts.out, &summary).map_err(io)?;
+        write_summary(&opts.out, &summary).map_err(early(Output::Summary))?;
         return Ok(RunOutcome { summary, ok: false });
     }
     attach(&mut sim, backend, opts.adapter.as_deref())?;
     warn_from_estimate(scene, &opts.out, opts.vtk);
-    let mut history = History::create(&history_file).map_err(io)?;
+    let mut history = History::create(&history_file).map_err(early(Output::History))?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
     // The step of the last frame written: the last frame is not written twice.
     let mut frame_step = None;
     if opts.vtk {
-        sim.write_frame(&opts.out, frame, &mut pvd).map_err(io)?;
+        sim.write_frame(&opts.out, frame, &mut pvd)?
+            .map_err(early(Output::Frame(frame)))?;
         frame += 1;
-        frame_step = Some(sim.step);
+        frame_step = Some(sim.steps());
     }
-    history.write(&sim.history_row()).map_err(io)?;
+    history
+        .write(&sim.history_row()?)
+        .map_err(early(Output::History))?;
     // The step of the last row written: the last row is not written twice.
-    let mut history_step = sim.step;
+    let mut history_step = sim.steps();
     // Set once the disk refused an output: the run stops there.
-    let mut write_failed = false;
+    let mut refused = None;
     let mut next_history = scene.run.history_interval;
     let mut next_frame = if scene.run.output_interval > 0.0 {
         scene.run.output_interval
@@ -104,20 +118,23 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             break (
                 format!(
                     "interrupted (Ctrl-C or SIGTERM) at step {}, t {:.4e} s",
-                    sim.step, sim.time
+                    sim.steps(),
+                    sim.time()
                 ),
                 String::new(),
                 false,
             );
         }
-        if let Some(reason) = sim.stop_reason() {
+        // A step leaves the nodes current (`Fresh::Nodes`), all that this reads.
+        if let Some(reason) = sim.model.stop_reason() {
             break ("completed".to_string(), reason.to_string(), true);
         }
-        if sim.step >= scene.run.max_steps {
+        if sim.steps() >= scene.run.max_steps {
             break (
                 format!(
                     "stopped: max_steps = {} reached at t {:.4e} s",
-                    scene.run.max_steps, sim.time
+                    scene.run.max_steps,
+                    sim.time()
                 ),
                 String::new(),
                 false,
@@ -126,92 +143,94 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         if let Err(e) = sim.step() {
             break (e.to_string(), String::new(), false);
         }
-        let frame_due = opts.vtk && sim.time >= next_frame;
-        let synced = if frame_due {
-            sim.sync()
-        } else if sim.time >= next_history {
-            sim.sync_history()
-        } else {
-            Ok(())
-        };
-        if let Err(e) = synced {
-            break (e.to_string(), String::new(), false);
-        }
-        if sim.time >= next_history {
-            sim.check_slaves_inside();
-            let row = sim.history_row();
+        let frame_due = opts.vtk && sim.time() >= next_frame;
+        if sim.time() >= next_history {
+            let row = match sim.check_slaves_inside().and_then(|()| sim.history_row()) {
+                Ok(row) => row,
+                Err(e) => break (e.to_string(), String::new(), false),
+            };
             if let Err(e) = history.write(&row) {
-                write_failed = true;
-                break (output_failed(&sim, &e), String::new(), false);
+                let failure = OutputFailure::new(Output::History, &e, Some(sim.model.when()));
+                let status = failure.to_string();
+                refused = Some(failure);
+                break (status, String::new(), false);
             }
-            history_step = sim.step;
+            history_step = sim.steps();
             next_history += scene.run.history_interval;
-            progress.update(sim.time, sim.step, row.depth, row.velocity);
-            if let Err(e) = sim.energy_guard(row.energy_error) {
+            progress.update(sim.time(), sim.steps(), row.depth, row.velocity);
+            if let Err(e) = sim.model.energy_guard(row.energy_error) {
                 break (e.to_string(), String::new(), false);
             }
         }
         if frame_due {
-            if let Err(e) = sim.write_frame(&opts.out, frame, &mut pvd) {
-                write_failed = true;
-                break (output_failed(&sim, &e), String::new(), false);
+            let written = match sim.write_frame(&opts.out, frame, &mut pvd) {
+                Ok(written) => written,
+                Err(e) => break (e.to_string(), String::new(), false),
+            };
+            if let Err(e) = written {
+                let failure = OutputFailure::new(Output::Frame(frame), &e, Some(sim.model.when()));
+                let status = failure.to_string();
+                refused = Some(failure);
+                break (status, String::new(), false);
             }
             frame += 1;
-            frame_step = Some(sim.step);
+            frame_step = Some(sim.steps());
             next_frame += scene.run.output_interval;
         }
     };
     progress.finish();
     // A run that stopped for another reason keeps that reason alone.
     let checked = sim
-        .sync()
-        .and_then(|()| if ok { sim.check_energy() } else { Ok(()) });
-    let (status, reason, ok) = match checked {
+        .model()
+        .and_then(|m| if ok { m.check_energy() } else { Ok(()) });
+    let (mut status, reason, ok) = match checked {
         Ok(()) => (status, reason, ok),
         Err(e) if ok => (e.to_string(), String::new(), false),
         // Keep what stopped the run first.
         Err(e) => (format!("{status}; then {e}"), reason, false),
     };
-    sim.check_slaves_inside();
-    let mut status = status;
-    if !write_failed {
+    // Where the read-back failed, the status says so already.
+    let _ = sim.check_slaves_inside();
+    if refused.is_none() {
         // The last row and frame; after a refused write the disk has had its say.
-        let last = match history_step != sim.step {
-            true => history.write(&sim.history_row()),
-            false => Ok(()),
+        let step = sim.steps();
+        let mut last = Ok(());
+        if history_step != step {
+            match sim.history_row() {
+                Ok(row) => last = history.write(&row).map_err(|e| (Output::History, e)),
+                Err(e) => status = format!("{status}; then {e}"),
+            }
         }
-        .and_then(|()| history.flush())
-        .and_then(|()| match opts.vtk && frame_step != Some(sim.step) {
-            true => sim.write_frame(&opts.out, frame, &mut pvd),
-            false => Ok(()),
-        });
-        if let Err(e) = last {
-            write_failed = true;
-            status = format!("{status}; then {}", output_failed(&sim, &e));
+        last = last.and_then(|()| history.flush().map_err(|e| (Output::History, e)));
+        if last.is_ok() && opts.vtk && frame_step != Some(step) {
+            match sim.write_frame(&opts.out, frame, &mut pvd) {
+                Ok(written) => last = written.map_err(|e| (Output::Frame(frame), e)),
+                Err(e) => status = format!("{status}; then {e}"),
+            }
+        }
+        if let Err((what, e)) = last {
+            let failure = OutputFailure::new(what, &e, Some(sim.model.when()));
+            status = format!("{status}; then {failure}");
+            refused = Some(failure);
         }
     }
     let summary = sim.summary(&status, &reason, started.elapsed().as_secs_f64());
     let saved = write_summary(&opts.out, &summary);
-    if write_failed {
-        let kept = match saved {
-            Ok(()) => ", with summary.json".to_string(),
-            Err(e) => format!("; summary.json could not be written: {e}"),
-        };
-        return Err(RunError::Io(format!(
-            "{status}; what was written is kept in {}{kept}",
-            opts.out.display()
-        )));
+    if let Some(failure) = refused {
+        return Err(RunError::from(OutputError {
+            failure,
+            kept: Some(Kept {
+                status,
+                folder: opts.out.clone(),
+                summary: saved.map_err(|e| e.to_string()),
+            }),
+        }));
     }
-    saved.map_err(io)?;
+    saved.map_err(|e| {
+        let failure = OutputFailure::new(Output::Summary, &e, Some(sim.model.when()));
+        RunError::from(OutputError::from(failure))
+    })?;
     Ok(RunOutcome { summary, ok })
-}
-
-/// The status of a run the disk stopped: when, and the write refused.
-pub(super) fn output_failed(sim: &Simulation, e: &std::io::Error) -> String {
-    format!(
-        "output failed at step {}, t {:.4e} s: {e}",
-        sim.step, sim.time
-    )
 }
 
 pub(super) fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()> {

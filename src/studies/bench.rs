@@ -96,7 +96,15 @@ pub fn run(
                 }
             };
             let timed = match backend {
-                Backend::Cpu => (2_000_000 / sim.particles.len().max(1)).max(3).min(steps),
+                Backend::Cpu => (2_000_000
+                    / sim
+                        .model()
+                        .map_err(|e| e.to_string())?
+                        .particles
+                        .len()
+                        .max(1))
+                .max(3)
+                .min(steps),
                 _ => steps,
             };
             for _ in 0..5 {
@@ -129,15 +137,17 @@ pub fn run(
                     ]
                 });
             let list_builds = builds(&mut sim).zip(builds_before).map(|(a, b)| a - b);
-            let particles = sim.particles.len();
+            let on_gpu = sim.backend() == "gpu";
+            let m = sim.model().map_err(|e| e.to_string())?;
+            let (particles, elements) = (m.particles.len(), m.projectile.elements.len());
             let mut row = BenchRow {
-                backend: if sim.backend() == "gpu" {
-                    format!("gpu: {}", sim.adapter)
+                backend: if on_gpu {
+                    format!("gpu: {}", m.adapter)
                 } else {
                     "cpu".into()
                 },
                 particles,
-                elements: sim.projectile.elements.len(),
+                elements,
                 steps: timed,
                 ms_per_step: 1e3 * wall / timed as f64,
                 particle_steps_per_s: particles as f64 * timed as f64 / wall,

@@ -274,7 +274,7 @@ pub fn run(
                     };
                     match solver::run(&scene, &opts) {
                         Ok(o) => Ok(o.summary),
-                        Err(RunError::Io(m)) => return Err(SweepError::Io(m)),
+                        Err(RunError::Output(e)) => return Err(SweepError::Io(e.to_string())),
                         Err(e) => Err(e.to_string()),
                     }
                 }

@@ -263,7 +263,7 @@ pub fn run_set(
         };
         let outcome = match solver::run(&scene, &opts) {
             Ok(o) => Ok(o.summary),
-            Err(RunError::Io(m)) => return Err(SweepError::Io(m)),
+            Err(RunError::Output(e)) => return Err(SweepError::Io(e.to_string())),
             Err(e) => Err(e.to_string()),
         };
         let record = RunRecord {
@@ -386,7 +386,7 @@ pub fn sweep(
     out: &Path,
     progress: impl FnMut(&RunRecord),
 ) -> Result<Vec<RunRecord>, SweepError> {
-    crate::output::create_folder(out).map_err(SweepError::Io)?;
+    crate::output::create_folder(out).map_err(|e| SweepError::Io(e.to_string()))?;
     let planned_runs = planned.len();
     let records = run_set(planned, settings, progress)?;
     let path = out.join("sweep.csv");

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use penetrate::scene::{Backend, Scene};
-use penetrate::solver::{self, RunOptions, RunOutcome, Simulation};
+use penetrate::solver::{self, Model, RunOptions, RunOutcome};
 
 /// `penetrate run` of `scene` on the CPU path into `out`, quiet, with or without VTK frames.
 pub fn run_cpu(scene: &Scene, out: &Path, vtk: bool) -> RunOutcome {
@@ -22,7 +22,7 @@ pub fn run_cpu(scene: &Scene, out: &Path, vtk: bool) -> RunOutcome {
 }
 
 /// `err` names the entity of `sim` whose own stable step is the least, and where it is.
-pub fn assert_smallest_step_named(sim: &Simulation, err: &str) {
+pub fn assert_smallest_step_named(sim: &Model, err: &str) {
     let e = &sim.projectile.elements;
     let p = &sim.particles;
     let sph = sim.sph.as_ref().unwrap();

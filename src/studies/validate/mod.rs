@@ -326,7 +326,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
     let chosen = sections(opts);
     for s in &chosen {
         let dir = opts.out.join(s.name());
-        crate::output::create_folder(&dir).map_err(ValidateError::Io)?;
+        crate::output::create_folder(&dir).map_err(|e| ValidateError::Io(e.to_string()))?;
     }
     let estimate = estimate_runs(opts)?;
     let names: Vec<&str> = chosen.iter().map(|s| s.name()).collect();
