@@ -1,9 +1,11 @@
 // Johnson–Cook strength (paper eq. 13) and damage (eq. 15-16), physics.md §2.1 and §2.3: the
-// WGSL twin of src/materials/johnson_cook.rs, function for function, same formulas in the same
-// order, with the same floors and caps (every pow/exp/log argument guarded as there). The
-// constants come from FemUniform (src/gpu/params.rs).
+// WGSL twin of src/materials/johnson_cook.rs, with the law dispatch, hardening floor and radial
+// return of src/materials/flow.rs and the law of src/materials/zerilli_armstrong.rs, function
+// for function, same formulas in the same order, with the same floors and caps (every
+// pow/exp/log argument guarded as there). The constants come from FemUniform
+// (src/gpu/params.rs).
 
-// materials::johnson_cook::RadialReturn.
+// materials::flow::RadialReturn.
 struct JcReturn {
     // Plastic strain increment Δε_p >= 0 of this step.
     d_eps_p: f32,

@@ -1,8 +1,9 @@
 //! Simulation state as structures of arrays (f32), laid out as the GPU buffers will be.
 //! Global sums (time, energies, momenta) are kept in f64 by the solver, not here.
 
+use crate::materials::flow::Strength;
 use crate::materials::hjc::Hjc;
-use crate::materials::johnson_cook::{JcDamage, JcStrength};
+use crate::materials::johnson_cook::JcDamage;
 use crate::materials::steel_eos::PolyEos;
 use crate::mesh::{MasterSegment, ProjectileMesh, TargetLattice};
 use crate::scene::{SteelMaterial, TargetSpec};
@@ -261,7 +262,7 @@ pub struct FemParams {
     pub shear_modulus: f32,
     pub specific_heat: f32,
     pub taylor_quinney: f32,
-    pub strength: JcStrength,
+    pub strength: Strength,
     pub eos: PolyEos,
     pub damage: Option<JcDamage>,
     /// Bulk viscosity: quadratic and linear coefficients.
@@ -286,7 +287,7 @@ impl FemParams {
             q_quad: 1.5,
             q_lin: 0.06,
             // Bracketed Newton: 2–4 iterations once hardened, up to ~30 at first yield
-            // (materials::johnson_cook::radial_return).
+            // (materials::flow::radial_return).
             return_iterations: 30,
         }
     }

@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 
 use super::deviator::{deviatoric_rate, equivalent_rate, jaumann_trial, von_mises};
+use crate::materials::flow;
 use crate::materials::johnson_cook as jc;
 use crate::materials::steel_eos;
 use crate::mesh::geometry::Geometry;
@@ -266,7 +267,7 @@ pub fn update_element(
         s = [0.0; 4];
     } else {
         let seq = von_mises(&s);
-        let ret = jc::radial_return(
+        let ret = flow::radial_return(
             &m.strength,
             g_mod,
             seq,
@@ -289,7 +290,7 @@ pub fn update_element(
             let seq_new = von_mises(&s);
             let mean = -st.p;
             let triax = if seq_new > 0.0 { mean / seq_new } else { 0.0 };
-            let t_star = jc::homologous_temperature(&m.strength, st.temperature);
+            let t_star = flow::homologous_temperature(&m.strength, st.temperature);
             st.damage += jc::damage_increment(
                 dm,
                 ret.d_eps_p,

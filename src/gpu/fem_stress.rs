@@ -86,7 +86,7 @@ mod tests {
     use crate::gpu::params::FemUniform;
     use crate::gpu::shader::{self, fem_stress_parts, Part};
     use crate::gpu::{run_once, test_gpu};
-    use crate::materials::johnson_cook::FlowLaw;
+    use crate::materials::flow::{FlowLaw, Strength};
     use crate::materials::zerilli_armstrong::ZaFcc;
     use crate::solver::{Model, Simulation};
     use crate::state::{Elements, FemParams, Nodes};
@@ -156,13 +156,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         shader::validate(&fem_stress_parts(LAW_KERNEL)).unwrap();
     }
 
-    /// The same outputs from materials::johnson_cook and materials::steel_eos.
+    /// The same outputs from materials::{flow, johnson_cook, steel_eos}.
     fn law_cpu(m: &FemParams, c: &[f32; 8]) -> [f32; 12] {
-        use crate::materials::{johnson_cook as jc, steel_eos};
+        use crate::materials::{flow, johnson_cook as jc, steel_eos};
         let [eps_p, rate, temp, sigma, triax, d_eps_p, mu, e_vol] = *c;
         let (s, d) = (&m.strength, &m.damage.expect("the law cases have damage"));
-        let t_star = jc::homologous_temperature(s, temp);
-        let ret = jc::radial_return(
+        let t_star = flow::homologous_temperature(s, temp);
+        let ret = flow::radial_return(
             s,
             m.shear_modulus,
             sigma,
@@ -173,8 +173,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         );
         [
             t_star,
-            jc::flow_stress(s, eps_p, rate, temp),
-            jc::hardening_modulus(s, eps_p, rate, temp),
+            flow::flow_stress(s, eps_p, rate, temp),
+            flow::hardening_modulus(s, eps_p, rate, temp),
             ret.d_eps_p,
             ret.scale,
             ret.flow_stress,
@@ -234,10 +234,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             .collect()
     }
 
-    /// The WGSL Johnson–Cook and EOS functions agree with materials::{johnson_cook, steel_eos}
-    /// on hand-picked states, for the 4340 set with the CPU's 30 return iterations, and for a
-    /// set on the floors (single return step, a softening EOS under its tangent floor, a
-    /// failure strain of zero under its floor).
+    /// The WGSL flow-law and EOS functions agree with materials::{flow, johnson_cook,
+    /// steel_eos} on hand-picked states, for the 4340 set with the CPU's 30 return iterations,
+    /// and for a set on the floors (single return step, a softening EOS under its tangent
+    /// floor, a failure strain of zero under its floor).
     #[test]
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn johnson_cook_law_matches_cpu() {
@@ -261,7 +261,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         // Zerilli & Armstrong's copper constants on the same states (the law's own branch), and
         // a rate-only set (C₃ = 0) whose exponent is held at 0 on every case, without hardening.
         let with_za = |z: ZaFcc| FemParams {
-            strength: crate::materials::johnson_cook::JcStrength {
+            strength: Strength {
                 law: FlowLaw::ZerilliArmstrongFcc(z),
                 ..steel.strength
             },
@@ -326,7 +326,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             // anywhere within Newton's band |f| ≤ 1e-7 σ_trial, i.e. 1e-7 σ_trial/3G in Δε_p;
             // the pressure against the sum of its terms' sizes (they cancel in tension).
             let (yield_scale, slope_scale) = match m.strength.law {
-                FlowLaw::JohnsonCook => (m.strength.a, m.strength.n * m.strength.b),
+                FlowLaw::JohnsonCook(j) => (j.a, j.n * j.b),
                 FlowLaw::ZerilliArmstrongFcc(z) => (z.c0, 0.5 * z.c2),
             };
             let three_g = 3.0 * m.shear_modulus;

@@ -4,7 +4,8 @@
 
 use encase::ShaderType;
 
-use crate::materials::johnson_cook::FlowLaw;
+use crate::materials::flow::FlowLaw;
+use crate::materials::johnson_cook::JcFlow;
 use crate::materials::zerilli_armstrong::ZaFcc;
 use crate::state::{FemParams, SphParams};
 
@@ -162,7 +163,7 @@ pub struct FemUniform {
     pub q_quad: f32,
     pub q_lin: f32,
     pub return_iterations: u32,
-    /// 0: Johnson–Cook (jc_*); 1: Zerilli–Armstrong fcc (za_*), materials::johnson_cook::FlowLaw.
+    /// 0: Johnson–Cook (jc_*); 1: Zerilli–Armstrong fcc (za_*), materials::flow::FlowLaw.
     pub flow_law: u32,
     pub za_c0: f32,
     pub za_c2: f32,
@@ -175,9 +176,10 @@ impl FemUniform {
     pub fn new(p: &FemParams, n_elements: usize, n_nodes: usize) -> FemUniform {
         let s = p.strength;
         let d = p.damage;
-        let (flow_law, za) = match s.law {
-            FlowLaw::JohnsonCook => (0, ZaFcc::default()),
-            FlowLaw::ZerilliArmstrongFcc(z) => (1, z),
+        // The other law's constants are zero: the shader reads only those of `flow_law`.
+        let (flow_law, jc, za) = match s.law {
+            FlowLaw::JohnsonCook(j) => (0, j, ZaFcc::default()),
+            FlowLaw::ZerilliArmstrongFcc(z) => (1, JcFlow::default(), z),
         };
         FemUniform {
             n_elements: n_elements as u32,
@@ -186,11 +188,11 @@ impl FemUniform {
             shear_modulus: p.shear_modulus,
             specific_heat: p.specific_heat,
             taylor_quinney: p.taylor_quinney,
-            jc_a: s.a,
-            jc_b: s.b,
-            jc_n: s.n,
-            jc_c: s.c,
-            jc_m: s.m,
+            jc_a: jc.a,
+            jc_b: jc.b,
+            jc_n: jc.n,
+            jc_c: jc.c,
+            jc_m: jc.m,
             eps_rate_ref: s.eps_rate_ref,
             t_room: s.t_room,
             t_melt: s.t_melt,

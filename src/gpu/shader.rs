@@ -203,7 +203,7 @@ enum Value {
 
 /// Constants the shaders take from their CPU twins' definitions, under their WGSL names.
 fn shared_constants() -> Vec<(&'static str, Value)> {
-    use crate::materials::{hjc, johnson_cook, steel_eos};
+    use crate::materials::{flow, hjc, johnson_cook, steel_eos};
     use Value::{F32, U32};
     let status = |i: usize| U32(i as u32);
     vec![
@@ -223,16 +223,13 @@ fn shared_constants() -> Vec<(&'static str, Value)> {
         ("HJC_POW_BASE_FLOOR", F32(hjc::POW_BASE_FLOOR)),
         ("HJC_FAILURE_STRAIN_FLOOR", F32(hjc::FAILURE_STRAIN_FLOOR)),
         ("JC_POW_BASE_FLOOR", F32(johnson_cook::POW_BASE_FLOOR)),
-        (
-            "JC_HARDENING_EPS_FLOOR",
-            F32(johnson_cook::HARDENING_EPS_FLOOR),
-        ),
+        ("JC_HARDENING_EPS_FLOOR", F32(flow::HARDENING_EPS_FLOOR)),
         (
             "JC_FAILURE_STRAIN_FLOOR",
             F32(johnson_cook::FAILURE_STRAIN_FLOOR),
         ),
         ("JC_DAMAGE_EXP_CAP", F32(johnson_cook::DAMAGE_EXP_CAP)),
-        ("JC_RETURN_TOLERANCE", F32(johnson_cook::RETURN_TOLERANCE)),
+        ("JC_RETURN_TOLERANCE", F32(flow::RETURN_TOLERANCE)),
         ("MIN_POSITIVE", F32(f32::MIN_POSITIVE)),
         ("EOS_BULK_TANGENT_FLOOR", F32(steel_eos::BULK_TANGENT_FLOOR)),
         (

@@ -1,5 +1,6 @@
 //! Material laws as small pure functions, each with its equation number from `physics.md`.
 
+pub mod flow;
 pub mod hjc;
 pub mod johnson_cook;
 pub mod presets;

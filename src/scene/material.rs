@@ -4,8 +4,9 @@
 use super::resolve::Check;
 use super::schema::{self as k, Key};
 use super::{approx, num, SceneError, SteelMaterial};
-use crate::materials::johnson_cook::{FlowLaw, JcDamage, JcStrength};
-use crate::materials::presets::{self, DamageConstants, ZaConstants};
+use crate::materials::flow::{FlowLaw, Strength};
+use crate::materials::johnson_cook::{JcDamage, JcFlow};
+use crate::materials::presets::{self, DamageConstants, SteelConstants};
 use crate::materials::steel_eos::{self, PolyEos};
 use crate::materials::zerilli_armstrong::ZaFcc;
 
@@ -31,12 +32,7 @@ pub(super) fn resolve_steel(c: &Check) -> Result<SteelMaterial, SceneError> {
     )?;
     // First, so that a Johnson–Cook key given to a Zerilli–Armstrong preset is named as
     // belonging to the other law rather than checked against its range.
-    let law = resolve_flow_law(c, preset, p.za)?;
-    let jc_a = c.num_or(&k::JC_A, p.jc_a)?;
-    let jc_b = c.num_or(&k::JC_B, p.jc_b)?;
-    let jc_n = c.num_or(&k::JC_N, p.jc_n)?;
-    let jc_c = c.num_or(&k::JC_C, p.jc_c)?;
-    let jc_m = c.num_or(&k::JC_M, p.jc_m)?;
+    let law = resolve_flow_law(c, preset, &p)?;
     let eps_rate_ref = c.num_or(&k::EPS_RATE_REF, p.eps_rate_ref)?;
     // Copper's K₁ is the elastic bulk modulus of the final E and ν.
     let bulk = youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio));
@@ -87,13 +83,8 @@ pub(super) fn resolve_steel(c: &Check) -> Result<SteelMaterial, SceneError> {
         poisson_ratio,
         specific_heat,
         taylor_quinney,
-        strength: JcStrength {
+        strength: Strength {
             law,
-            a: jc_a as f32,
-            b: jc_b as f32,
-            n: jc_n as f32,
-            c: jc_c as f32,
-            m: jc_m as f32,
             eps_rate_ref: eps_rate_ref as f32,
             t_room: t_room as f32,
             t_melt: t_melt as f32,
@@ -109,7 +100,7 @@ pub(super) fn resolve_steel(c: &Check) -> Result<SteelMaterial, SceneError> {
 pub(super) fn check_strength_below_modulus(c: &Check, m: &SteelMaterial) -> Result<(), SceneError> {
     let e = m.youngs_modulus;
     let strengths = match &m.strength.law {
-        FlowLaw::JohnsonCook => [(&k::JC_A, m.strength.a), (&k::JC_B, m.strength.b)],
+        FlowLaw::JohnsonCook(j) => [(&k::JC_A, j.a), (&k::JC_B, j.b)],
         FlowLaw::ZerilliArmstrongFcc(z) => [(&k::ZA_C0, z.c0), (&k::ZA_C2, z.c2)],
     };
     for (key, value) in strengths {
@@ -132,16 +123,13 @@ fn first_given(c: &Check, keys: &[&'static Key]) -> Option<&'static Key> {
     keys.iter().copied().find(|key| c.given_num(key).is_some())
 }
 
-/// The flow-stress law: Johnson–Cook's, or, for a preset with Zerilli–Armstrong constants,
-/// those with the scene's `za_*` overrides. A key of the other law is refused, not ignored.
-fn resolve_flow_law(
-    c: &Check,
-    preset: &str,
-    za: Option<ZaConstants>,
-) -> Result<FlowLaw, SceneError> {
+/// The flow-stress law: Johnson–Cook's with the scene's `jc_*` over the preset's, or, for a
+/// preset with Zerilli–Armstrong constants, those with the scene's `za_*` overrides. A key of
+/// the other law is refused, not ignored.
+fn resolve_flow_law(c: &Check, preset: &str, p: &SteelConstants) -> Result<FlowLaw, SceneError> {
     let jc_keys = [&k::JC_A, &k::JC_B, &k::JC_N, &k::JC_C, &k::JC_M];
     let za_keys = [&k::ZA_C0, &k::ZA_C2, &k::ZA_C3, &k::ZA_C4];
-    let Some(z) = za else {
+    let Some(z) = p.za else {
         if let Some(key) = first_given(c, &za_keys) {
             return Err(c.conflict(
                 &[key.path, k::PRESET_NAME.path],
@@ -151,7 +139,13 @@ fn resolve_flow_law(
                 ),
             ));
         }
-        return Ok(FlowLaw::JohnsonCook);
+        return Ok(FlowLaw::JohnsonCook(JcFlow {
+            a: c.num_or(&k::JC_A, p.jc_a)? as f32,
+            b: c.num_or(&k::JC_B, p.jc_b)? as f32,
+            n: c.num_or(&k::JC_N, p.jc_n)? as f32,
+            c: c.num_or(&k::JC_C, p.jc_c)? as f32,
+            m: c.num_or(&k::JC_M, p.jc_m)? as f32,
+        }));
     };
     if let Some(key) = first_given(c, &jc_keys) {
         return Err(c.conflict(

@@ -23,8 +23,9 @@ use std::path::{Path, PathBuf};
 
 use toml::{Table, Value};
 
+use crate::materials::flow::Strength;
 use crate::materials::hjc::Hjc;
-use crate::materials::johnson_cook::{JcDamage, JcStrength};
+use crate::materials::johnson_cook::JcDamage;
 use crate::materials::steel_eos::PolyEos;
 
 pub use table::reference_markdown;
@@ -142,7 +143,7 @@ pub struct SteelMaterial {
     pub specific_heat: f64,
     /// Fraction β of plastic work that heats the metal.
     pub taylor_quinney: f64,
-    pub strength: JcStrength,
+    pub strength: Strength,
     pub eos: PolyEos,
     /// `None` when `damage = false`: no damage state and no damage update.
     pub damage: Option<JcDamage>,
@@ -694,7 +695,11 @@ pub(crate) mod tests {
         assert_eq!(smoke(&["target.fc=33.5e6"]).unwrap(), expected);
 
         let mut expected = base.clone();
-        expected.projectile.material.strength.a = 1.0e9;
+        let law = &mut expected.projectile.material.strength.law;
+        let crate::materials::flow::FlowLaw::JohnsonCook(jc) = law else {
+            panic!("the smoke preset is Johnson–Cook: {law:?}")
+        };
+        jc.a = 1.0e9;
         assert_eq!(smoke(&["projectile.material.jc_a=1e9"]).unwrap(), expected);
 
         let mut expected = base.clone();

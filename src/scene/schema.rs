@@ -3,8 +3,9 @@
 //! docs/scene-reference.md all come from the [`KEYS`] below; checks that involve several keys
 //! stay code in `resolve.rs`.
 
+use crate::materials::flow::{FlowLaw, Strength};
 use crate::materials::hjc::Hjc;
-use crate::materials::johnson_cook::{FlowLaw, JcDamage, JcStrength};
+use crate::materials::johnson_cook::{JcDamage, JcFlow};
 use crate::materials::presets::PRESETS;
 use crate::materials::zerilli_armstrong::ZaFcc;
 
@@ -331,19 +332,21 @@ fn steel(s: &Scene) -> &SteelMaterial {
     &s.projectile.material
 }
 
-fn strength(s: &Scene, f: fn(&JcStrength) -> f32) -> Option<Shown> {
+fn strength(s: &Scene, f: fn(&Strength) -> f32) -> Option<Shown> {
     Some(Shown::Single(f(&steel(s).strength)))
 }
 
-fn jc(s: &Scene, f: fn(&JcStrength) -> f32) -> Option<Shown> {
-    let st = &steel(s).strength;
-    matches!(st.law, FlowLaw::JohnsonCook).then(|| Shown::Single(f(st)))
+fn jc(s: &Scene, f: fn(&JcFlow) -> f32) -> Option<Shown> {
+    steel(s)
+        .strength
+        .johnson_cook()
+        .map(|j| Shown::Single(f(j)))
 }
 
 fn za(s: &Scene, f: fn(&ZaFcc) -> f32) -> Option<Shown> {
     match &steel(s).strength.law {
         FlowLaw::ZerilliArmstrongFcc(z) => Some(Shown::Single(f(z))),
-        FlowLaw::JohnsonCook => None,
+        FlowLaw::JohnsonCook(_) => None,
     }
 }
 

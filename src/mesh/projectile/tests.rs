@@ -315,7 +315,8 @@ fn forrestal_projectile_mass() {
 }
 
 fn test_steel() -> crate::scene::SteelMaterial {
-    use crate::materials::johnson_cook::{FlowLaw, JcDamage, JcStrength};
+    use crate::materials::flow::{FlowLaw, Strength};
+    use crate::materials::johnson_cook::{JcDamage, JcFlow};
     use crate::materials::steel_eos::PolyEos;
     crate::scene::SteelMaterial {
         preset: "test".into(),
@@ -324,13 +325,14 @@ fn test_steel() -> crate::scene::SteelMaterial {
         poisson_ratio: 0.29,
         specific_heat: 477.0,
         taylor_quinney: 0.9,
-        strength: JcStrength {
-            law: FlowLaw::JohnsonCook,
-            a: 792e6,
-            b: 510e6,
-            n: 0.26,
-            c: 0.014,
-            m: 1.03,
+        strength: Strength {
+            law: FlowLaw::JohnsonCook(JcFlow {
+                a: 792e6,
+                b: 510e6,
+                n: 0.26,
+                c: 0.014,
+                m: 1.03,
+            }),
             eps_rate_ref: 1.0,
             t_room: 294.0,
             t_melt: 1793.0,
