@@ -89,8 +89,9 @@ pub struct GpuStep {
     nodes: GpuNodes,
     elements: GpuElements,
     fem: Option<FemPasses>,
-    /// The scene's passes of the step's second half, in the order `record_forces` runs them.
-    force_passes: Vec<Pass>,
+    /// The scene's passes in their order: `record_motion` runs the first half, the host the
+    /// correction, `record_forces` the second half.
+    passes: Vec<Pass>,
     integrate: IntegratePass,
     timestep: TimestepPass,
     acc: Accumulators,
@@ -342,7 +343,7 @@ impl GpuStep {
             nodes,
             elements,
             fem,
-            force_passes: s.passes.iter().copied().filter(Pass::is_force).collect(),
+            passes: s.passes.to_vec(),
             integrate,
             timestep,
             acc,
@@ -429,7 +430,7 @@ impl GpuStep {
         // Each pass's timestamp slot is its place in PROFILED; a pass the scene lacks gets its
         // slot marked where it would have run, an empty interval.
         let mut next = 2;
-        for p in &self.force_passes {
+        for p in self.passes.iter().filter(|p| p.is_force()) {
             let at = profiled_slot(p.name());
             for skipped in next..at {
                 self.mark(pass, skipped);
@@ -452,6 +453,35 @@ impl GpuStep {
         }
         self.timestep.record(pass);
         self.mark(pass, 8);
+    }
+
+    /// The first half of a step, up to what the host corrects: the scene's passes before its
+    /// force passes (integration, then contact detection), each marked in its profiler slot.
+    fn record_motion(&self, pass: &mut wgpu::ComputePass) {
+        let sph = self.sph.as_ref();
+        let mut next = profiled_slot("integrate");
+        for p in self.passes.iter().filter(|p| !p.is_force()) {
+            match (p, sph.and_then(|s| s.contact.as_ref())) {
+                (Pass::Integrate, _) => {
+                    self.integrate.record(pass);
+                    if let Some(s) = sph {
+                        s.neighbours.record_displacement(pass);
+                    }
+                }
+                (Pass::ContactDetect, Some(c)) => c.record_detect(pass),
+                // The correction runs on the host, between this submission and the next.
+                _ => continue,
+            }
+            let at = profiled_slot(p.name());
+            for skipped in next..at {
+                self.mark(pass, skipped);
+            }
+            self.mark(pass, at);
+            next = at + 1;
+        }
+        for skipped in next..=profiled_slot("contact_detect") {
+            self.mark(pass, skipped);
+        }
     }
 
     /// Finish the last step (its forces and the next Δt) so the GPU state is complete.
@@ -497,15 +527,7 @@ impl GpuStep {
                     self.mark(&mut pass, slot);
                 }
             }
-            self.integrate.record(&mut pass);
-            if let Some(sph) = &self.sph {
-                sph.neighbours.record_displacement(&mut pass);
-            }
-            self.mark(&mut pass, 9);
-            if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
-                c.record_detect(&mut pass);
-            }
-            self.mark(&mut pass, 10);
+            self.record_motion(&mut pass);
         }
         if let Some(p) = &self.profiler {
             p.resolve(&mut encoder);
@@ -727,16 +749,21 @@ mod tests {
     use crate::gpu::neighbours::NBR_MAX;
     use crate::pass::{self, Pass};
 
-    /// Every pass of the step's second half has a profiler slot, in the order the pass list
-    /// runs them, before the time step's.
+    /// Every pass the GPU records has a profiler slot, in the order the pass list runs them:
+    /// the second half before the time step's, then the first half (the next step's).
     #[test]
-    fn every_force_pass_has_its_profiler_slot_in_order() {
+    fn every_recorded_pass_has_its_profiler_slot_in_order() {
         let all = pass::for_scene(true, true);
         let slots: Vec<u32> = all
             .iter()
             .filter(|p| p.is_force())
             .map(|p| profiled_slot(p.name()))
             .chain([profiled_slot("timestep")])
+            .chain(
+                all.iter()
+                    .filter(|p| !p.is_force() && **p != Pass::ContactCorrect)
+                    .map(|p| profiled_slot(p.name())),
+            )
             .collect();
         assert!(
             slots.iter().all(|&s| s < PROFILED.len() as u32 + 1),

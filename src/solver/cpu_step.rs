@@ -30,10 +30,53 @@ impl Stepper for CpuStepper {
 }
 
 impl Model {
-    /// One explicit step on the CPU: velocities and positions, contact, then rates, stresses
-    /// and forces at the new configuration, then the next Δt.
+    /// One explicit step on the CPU: the scene's passes in their order (velocities and
+    /// positions, contact, then rates, stresses and forces at the new configuration), then the
+    /// next Δt.
     pub(super) fn step_cpu(&mut self) -> Result<(), RunError> {
         let dt = self.dt;
+        let mut hits = Vec::new();
+        for k in 0..self.passes.len() {
+            match self.passes[k] {
+                Pass::Integrate => self.integrate(dt)?,
+                Pass::ContactDetect => {
+                    hits = self.detect();
+                    self.last_hits = hits.len();
+                }
+                Pass::ContactCorrect => {
+                    let p = &mut self.particles;
+                    correct_contact(
+                        &hits,
+                        Slaves {
+                            r: &mut p.r,
+                            z: &mut p.z,
+                            vr: &mut p.vr,
+                            vz: &mut p.vz,
+                            mass: &p.mass,
+                        },
+                        &mut self.projectile,
+                        &self.on_nose,
+                        self.scene.contact.lambda as f32,
+                        dt,
+                        &mut self.account,
+                    );
+                }
+                // The second half, at the configuration the first reached.
+                _ => {}
+            }
+        }
+        self.forces(dt)?;
+        self.time += dt as f64;
+        self.step += 1;
+        self.account.min_dt = self.account.min_dt.min(dt as f64);
+        self.account.max_dt = self.account.max_dt.max(dt as f64);
+        self.dt = self.stable_dt()?;
+        Ok(())
+    }
+
+    /// Velocities and positions of the particles and the nodes over `dt`, with what the fixed
+    /// boundary and the wall exert booked in the account.
+    fn integrate(&mut self, dt: f32) -> Result<(), RunError> {
         let origin = self.scene.origin_z();
         let blowup = |b: cpu::integrate::Blowup, when: When| {
             RunError::from(Instability {
@@ -66,32 +109,6 @@ impl Model {
             self.account.boundary_impulse +=
                 self.projectile_momentum() - p_before - forces * dt as f64;
         }
-        if self.has(Pass::ContactDetect) {
-            let hits = self.detect();
-            self.last_hits = hits.len();
-            let p = &mut self.particles;
-            correct_contact(
-                &hits,
-                Slaves {
-                    r: &mut p.r,
-                    z: &mut p.z,
-                    vr: &mut p.vr,
-                    vz: &mut p.vz,
-                    mass: &p.mass,
-                },
-                &mut self.projectile,
-                &self.on_nose,
-                self.scene.contact.lambda as f32,
-                dt,
-                &mut self.account,
-            );
-        }
-        self.forces(dt)?;
-        self.time += dt as f64;
-        self.step += 1;
-        self.account.min_dt = self.account.min_dt.min(dt as f64);
-        self.account.max_dt = self.account.max_dt.max(dt as f64);
-        self.dt = self.stable_dt()?;
         Ok(())
     }
 
