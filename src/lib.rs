@@ -19,6 +19,7 @@ pub mod mesh;
 pub mod output;
 pub mod pass;
 pub mod scene;
+pub mod scope;
 pub mod solver;
 pub mod state;
 pub mod studies;

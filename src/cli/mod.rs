@@ -46,19 +46,14 @@ impl From<BackendArg> for Backend {
     }
 }
 
-/// The paths a multi-run command uses: `auto` is both where wgpu finds an adapter.
+/// The path `arg` means, `auto` resolved as every command resolves it
+/// ([`crate::solver::auto_gpu`]); a fall back to the CPU path is said on stderr.
 fn backends(arg: BackendArg, adapter: Option<&str>, command: &str) -> Vec<Backend> {
-    match arg {
-        BackendArg::Cpu => vec![Backend::Cpu],
-        BackendArg::Gpu => vec![Backend::Gpu],
-        BackendArg::Auto => match crate::gpu::Gpu::new(adapter) {
-            Ok(_) => vec![Backend::Gpu, Backend::Cpu],
-            Err(e) => {
-                eprintln!("penetrate {command}: no GPU ({e}); the CPU path only");
-                vec![Backend::Cpu]
-            }
-        },
+    let (backend, why) = crate::solver::resolve(arg.into(), adapter);
+    if let Some(why) = why {
+        eprintln!("penetrate {command}: --backend auto: {why}; the CPU path runs");
     }
+    vec![backend]
 }
 
 /// The backends of a comma-separated `--backend`, each `auto` expanded, in order, each once.

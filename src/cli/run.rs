@@ -99,6 +99,9 @@ pub fn run(args: RunArgs) -> ExitCode {
                 "max damage {:.3}, max plastic strain {:.3}, energy error {:.2e}, momentum error {:.2e}",
                 s.max_damage, s.max_plastic_strain, s.energy_error, s.momentum_error
             );
+            if let Some(line) = crate::scope::outside(&scene) {
+                say!("note: {line}");
+            }
             say!("outputs in {}", out.display());
             if outcome.ok {
                 ExitCode::SUCCESS

@@ -7,7 +7,6 @@ use std::process::ExitCode;
 use clap::Args;
 
 use super::{backend_list, backends, fail, BackendArg};
-use crate::scene::Backend;
 use crate::studies;
 
 /// `penetrate bench`'s arguments.
@@ -19,9 +18,10 @@ pub struct BenchArgs {
     /// Target sizes in particles, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000, 1_000_000])]
     sizes: Vec<usize>,
-    /// Which paths to time: cpu, gpu, or auto (both, the GPU where an adapter is found).
-    #[arg(long, value_enum, default_value = "auto")]
-    backend: BackendArg,
+    /// Which paths to time, in order (comma-separated): cpu, gpu, or auto (a hardware GPU
+    /// where wgpu finds one, else the CPU); `cpu,gpu` times both.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "auto")]
+    backend: Vec<BackendArg>,
     /// GPU adapter (part of its name).
     #[arg(long)]
     adapter: Option<String>,
@@ -36,9 +36,10 @@ pub struct StabilityArgs {
     /// Base scene the suite's scenes override.
     #[arg(long, default_value = "cases/stability.toml")]
     case: PathBuf,
-    /// Which paths: cpu, gpu, or auto (both, the GPU where an adapter is found).
-    #[arg(long, value_enum, default_value = "auto")]
-    backend: BackendArg,
+    /// Which paths, in order (comma-separated): cpu, gpu, or auto (a hardware GPU where wgpu
+    /// finds one, else the CPU); `cpu,gpu` runs the suite on both.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "auto")]
+    backend: Vec<BackendArg>,
     /// GPU adapter (part of its name).
     #[arg(long)]
     adapter: Option<String>,
@@ -83,10 +84,10 @@ pub struct SweepArgs {
 /// `penetrate validate`'s arguments.
 #[derive(Args)]
 pub struct ValidateArgs {
-    /// Which paths, in order (comma-separated): cpu, gpu, or auto (gpu then cpu where an
-    /// adapter is found, else cpu). The error-against-run-time section runs on each, the
-    /// other sections on the first: `cpu,gpu` runs them on the CPU and still compares the
-    /// two paths.
+    /// Which paths, in order (comma-separated): cpu, gpu, or auto (a hardware GPU where wgpu
+    /// finds one, else the CPU). The error-against-run-time section runs on each, the other
+    /// sections on the first: `cpu,gpu` runs them on the CPU and still compares the two
+    /// paths.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "auto")]
     backend: Vec<BackendArg>,
     /// GPU adapter (part of its name).
@@ -130,7 +131,7 @@ pub fn bench(args: BenchArgs) -> ExitCode {
         adapter,
         steps,
     } = args;
-    let backends = backends(backend, adapter.as_deref(), "bench");
+    let backends = backend_list(&backend, adapter.as_deref(), "bench");
     match studies::bench::run(&case, &sizes, &backends, adapter.as_deref(), steps, |m| {
         eprintln!("{m}")
     }) {
@@ -152,7 +153,7 @@ pub fn check_stability(args: StabilityArgs) -> ExitCode {
         only,
         out,
     } = args;
-    let backends = backends(backend, adapter.as_deref(), "check-stability");
+    let backends = backend_list(&backend, adapter.as_deref(), "check-stability");
     if let Err(e) = crate::output::create_folder(&out) {
         return fail(3, &format!("check-stability: {e}"));
     }
@@ -220,7 +221,7 @@ pub fn sweep(args: SweepArgs) -> ExitCode {
         Ok(v) => v,
         Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
     };
-    let backend = backend.map(Backend::from);
+    let backend = backend.map(|b| backends(b, adapter.as_deref(), "sweep")[0]);
     let out = out.unwrap_or_else(|| studies::sweep::default_out(&case, &vary));
     let settings = studies::sweep::RunSettings {
         adapter,

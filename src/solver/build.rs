@@ -161,14 +161,39 @@ pub(super) fn attach(
             sim.use_gpu(gpu)?;
         }
         Backend::Auto => {
-            if let Ok(gpu) = crate::gpu::Gpu::new(adapter) {
-                if crate::gpu::is_hardware(&gpu.info) || adapter.is_some() {
-                    sim.use_gpu(gpu)?;
-                }
+            if let Ok(gpu) = auto_gpu(adapter) {
+                sim.use_gpu(gpu)?;
             }
         }
     }
     Ok(())
+}
+
+/// What `auto` takes, the same in every command: a hardware GPU wgpu finds, or the adapter
+/// `adapter` names (lavapipe included: named, it is wanted); else `Err` with why the CPU path
+/// runs instead.
+pub fn auto_gpu(adapter: Option<&str>) -> Result<crate::gpu::Gpu, String> {
+    let gpu = crate::gpu::Gpu::new(adapter).map_err(|e| format!("no GPU adapter ({e})"))?;
+    if adapter.is_some() || crate::gpu::is_hardware(&gpu.info) {
+        Ok(gpu)
+    } else {
+        Err(format!(
+            "only a software adapter, {} (name it with --adapter to use it)",
+            gpu.adapter_name()
+        ))
+    }
+}
+
+/// The one backend `backend` means here: `auto` resolved by [`auto_gpu`], with why it fell
+/// back to the CPU path when it did.
+pub fn resolve(backend: Backend, adapter: Option<&str>) -> (Backend, Option<String>) {
+    match backend {
+        Backend::Auto => match auto_gpu(adapter) {
+            Ok(_) => (Backend::Gpu, None),
+            Err(why) => (Backend::Cpu, Some(why)),
+        },
+        b => (b, None),
+    }
 }
 
 #[cfg(test)]

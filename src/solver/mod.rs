@@ -18,7 +18,7 @@ mod outputs;
 mod run;
 
 pub use account::ENERGY_GUARD;
-pub use build::build;
+pub use build::{auto_gpu, build, resolve};
 pub use cpu_step::MIN_STEP;
 pub use error::{
     Entity, Instability, Kept, Moving, Output, OutputError, OutputFailure, RunError, Unstable, When,

@@ -86,8 +86,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         write_summary(&opts.out, &summary).map_err(early(Output::Summary))?;
         return Ok(RunOutcome { summary, ok: false });
     }
+    let (backend, fell_back) = super::build::resolve(backend, opts.adapter.as_deref());
     attach(&mut sim, backend, opts.adapter.as_deref())?;
-    warn_from_estimate(scene, &opts.out, opts.vtk);
+    warn_from_estimate(scene, &opts.out, opts.vtk, fell_back.as_deref());
     let mut history = History::create(&history_file).map_err(early(Output::History))?;
     let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
     let mut frame = 0;
@@ -240,11 +241,19 @@ pub(super) fn write_summary(out: &Path, summary: &Summary) -> std::io::Result<()
 
 /// Says on stderr what `check`'s estimate foresees going wrong before the run starts: more
 /// steps than `run.max_steps` to `run.end_time`, and outputs that overfill the disk.
-pub(super) fn warn_from_estimate(scene: &Scene, out: &Path, vtk: bool) {
+/// `fell_back`: why `--backend auto` runs on the CPU path, said first with the steps to run.
+pub(super) fn warn_from_estimate(scene: &Scene, out: &Path, vtk: bool, fell_back: Option<&str>) {
     let Ok(mesh) = mesh::projectile::build(&scene.model_projectile()) else {
         return;
     };
     let e = crate::estimate::estimate(scene, &mesh);
+    if let Some(why) = fell_back {
+        eprintln!(
+            "penetrate run: --backend auto: {why}; the CPU path runs {} steps to run.end_time \
+             (check's estimate), its time left shown as it goes",
+            e.steps_text()
+        );
+    }
     if let Some(line) = steps_warning(scene, &e) {
         eprintln!("{line}");
     }
