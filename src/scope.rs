@@ -1,11 +1,11 @@
 //! The validated scope of a penetration: what the shipped validation covers (the Forrestal et
-//! al. 1994 shots of `data/forrestal1994.csv`, reported in `docs/validation/report.md`), so that
+//! al. 1994 shots of `data/forrestal1994.csv`, summed up in `docs/validation/summary.md`), so that
 //! `run` can say in one line when a scene lies outside it. Accuracy is only known inside.
 
 use crate::scene::{ProjectileShape, Scene};
 
 /// Where the report lists what was validated and how well.
-pub const VALIDATION_SUMMARY: &str = "docs/validation/report.md";
+pub const VALIDATION_SUMMARY: &str = "docs/validation/summary.md";
 
 /// The validated shots' nose: a tangent ogive of this calibre-radius-head
 /// (forrestal1994.csv's header: ogive radius 53.8 mm on a 26.9 mm shank).

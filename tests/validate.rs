@@ -91,6 +91,29 @@ fn quick_validation_writes_every_section() {
     ] {
         assert!(report.contains(title), "report.md lacks {title}");
     }
+    // Each section says how to make it again, what it compares with and how it came out; the
+    // summary has one row per section, linked to its heading.
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    for name in [
+        "taylor",
+        "forrestal",
+        "target-size",
+        "convergence",
+        "rigid-vs-elastic",
+        "deformation",
+        "shell",
+    ] {
+        let command = format!("- Command: `penetrate validate --only {name} --backend cpu");
+        assert!(report.contains(&command), "report.md lacks {command}");
+    }
+    assert_eq!(report.matches("\n- Data source: ").count(), 7);
+    assert_eq!(report.matches("\n- Verdict: ").count(), 7);
+    assert!(summary.contains("not validation"), "{summary}");
+    assert!(
+        summary.contains("[Forrestal et al. (1994) shots](report.md#forrestal-et-al-1994-shots)"),
+        "{summary}"
+    );
+    assert_eq!(summary.matches("](report.md#").count(), 7, "{summary}");
     // The data file names its columns in a comment: every other line is a shot.
     let shots = csv::ReaderBuilder::new()
         .has_headers(false)

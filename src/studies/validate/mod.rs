@@ -1,6 +1,6 @@
 //! `penetrate validate`: the shipped validation cases and the paper's studies, run in process
 //! through [`super::sweep`], written up in `DIR/report.md` with PNG plots ([`super::plot`]) and
-//! each section's raw data as CSV.
+//! each section's raw data as CSV, and summed up in `DIR/summary.md`, one table of the checks.
 //!
 //! Sections ([`Section`]): Taylor bars at three element sizes; the Forrestal et al. (1994) shots
 //! against the measurements and Forrestal's equation; the target-size check; depth error
@@ -34,7 +34,7 @@ use crate::scene::Backend;
 use crate::studies::sweep::{self, SweepError, Vary};
 
 use context::Context;
-use report::render;
+use report::{render, render_summary};
 
 /// A part of the report, runnable alone with `--only`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,6 +82,24 @@ impl Section {
             Section::RigidVsElastic => "Rigid against elastic-plastic projectile (paper Fig. 2-3)",
             Section::Deformation => "Plastic deformation against striking speed (paper Fig. 4)",
             Section::Shell => "Shell projectile: critical velocity and damage (paper Fig. 6, 7, 9)",
+        }
+    }
+
+    /// Where the section's reference values come from: a measurement file of `--data` with its
+    /// source, or the paper's findings where there is nothing measured.
+    pub fn source(self) -> &'static str {
+        match self {
+            Section::Taylor => {
+                "`taylor.csv`: Taylor impacts of 4340 steel and OFHC copper bars, Johnson & Cook \
+                 (1983), digitised (±0.1–0.2 mm)"
+            }
+            Section::Forrestal | Section::TargetSize | Section::Convergence => {
+                "`forrestal1994.csv`: Forrestal, Altman, Cargile & Hanchak (1994), Int. J. \
+                 Impact Engng 15(4):395–405, CRH 2.0 ogive 4340 projectiles into plain concrete"
+            }
+            Section::RigidVsElastic | Section::Deformation | Section::Shell => {
+                "none measured: the paper's findings (Song, Cai & Wang 2006), compared in kind"
+            }
         }
     }
 
@@ -363,6 +381,9 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
     let report = opts.out.join("report.md");
     std::fs::write(&report, render(&ctx, &chosen, &parts, wall_s))
         .map_err(|e| ValidateError::Io(format!("{}: {e}", report.display())))?;
+    let summary = opts.out.join("summary.md");
+    std::fs::write(&summary, render_summary(&ctx, &parts))
+        .map_err(|e| ValidateError::Io(format!("{}: {e}", summary.display())))?;
     Ok(Outcome {
         report,
         runs: ctx.done.len(),

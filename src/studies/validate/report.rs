@@ -110,9 +110,83 @@ pub(super) fn render(
         md += &table(&["section", "check", "target", "result", "verdict"], &rows);
     }
     for (s, p) in parts {
-        md += &format!("\n## {}\n\n{}", s.title(), p.markdown);
+        md += &format!("\n## {}\n\n", s.title());
+        md += &format!("- Command: `{}`\n", command(ctx, *s));
+        md += &format!("- Data source: {}\n", s.source());
+        md += &format!("- Verdict: {}\n\n", verdict(&p.checks));
+        md += &p.markdown;
     }
     md
+}
+
+/// The one-page summary beside the report: how it was made, and its checks with their
+/// verdicts, each section linked to its part of `report.md`.
+pub(super) fn render_summary(ctx: &Context, parts: &[(Section, SectionOut)]) -> String {
+    let mut md = String::from("# Validation summary\n\n");
+    if ctx.opts.quick {
+        md += "> **Quick run** (`--quick`): these numbers test the tooling; **they are not \
+               validation**.\n\n";
+    }
+    md += "Every check of `penetrate validate`, as its last run wrote them; the setup, data, \
+           results and plots of each section are in [report.md](report.md).\n\n";
+    md += &builds_line(ctx);
+    md += "\n";
+    let rows: Vec<Vec<String>> = parts
+        .iter()
+        .map(|(s, p)| {
+            // The heading's anchor as Markdown renderers make it (GitHub's rule).
+            let anchor: String = s
+                .title()
+                .to_lowercase()
+                .chars()
+                .filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-')
+                .map(|c| if c == ' ' { '-' } else { c })
+                .collect();
+            vec![
+                format!("[{}](report.md#{anchor})", s.title()),
+                s.source().to_string(),
+                p.checks
+                    .iter()
+                    .map(|c| format!("{}: {}", c.what, c.result))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                verdict(&p.checks),
+            ]
+        })
+        .collect();
+    md += &table(&["section", "data", "result", "verdict"], &rows);
+    md
+}
+
+/// The command that makes a section's part again.
+fn command(ctx: &Context, s: Section) -> String {
+    let o = ctx.opts;
+    let backends: Vec<&str> = o.backends.iter().map(|b| b.name()).collect();
+    format!(
+        "penetrate validate --only {} --backend {} --data {}{}",
+        s.name(),
+        backends.join(","),
+        o.data.display(),
+        if o.quick { " --quick" } else { "" }
+    )
+}
+
+/// A section's verdict from its checks: pass when every check passed.
+fn verdict(checks: &[Check]) -> String {
+    if checks.is_empty() {
+        return "no accuracy target (a study: read its figures)".into();
+    }
+    let passed = checks.iter().filter(|c| c.pass == Some(true)).count();
+    let failed = checks.iter().filter(|c| c.pass == Some(false)).count();
+    match (failed, passed == checks.len()) {
+        (0, true) => format!("pass ({passed} of {} checks)", checks.len()),
+        (0, false) => format!(
+            "n/a: {} of {} checks not evaluated (a run did not complete)",
+            checks.len() - passed,
+            checks.len()
+        ),
+        _ => format!("**fail** ({failed} of {} checks)", checks.len()),
+    }
 }
 
 /// The report's line naming the solver build of every run it used, this executable's first.
