@@ -25,7 +25,7 @@ Usage
     python3 scripts/cavity_expansion.py --both-rates          # both, one table
     python3 scripts/cavity_expansion.py --check               # verification only (see below)
     python3 scripts/cavity_expansion.py --geometry cylindrical [...]   # any of these, cylindrical
-    python3 scripts/cavity_expansion.py --shots ../shared/data/forrestal1994.csv \
+    python3 scripts/cavity_expansion.py --shots data/forrestal1994.csv \
         --speeds 10,25,50,100,150,200,300,400,500,650,800     # depths of a rigid ogive (below)
     options: --fc PA --density KG_M3 --speeds 25,50,100,200 --a-end 25 --merge-frac 0.01
              --set KEY=VALUE (override one constant of the f_c rule's set, e.g. mu_lock=0.13)
@@ -642,7 +642,7 @@ def forrestal_equation(mass, radius, crh, density, fc, speed):
 
 def read_shots(path):
     """velocity_m_s,mass_kg,fc_MPa,depth_m[,...] rows of a data file such as
-    ../shared/data/forrestal1994.csv ('#' lines are comments)."""
+    data/forrestal1994.csv ('#' lines are comments)."""
     shots = []
     with open(path) as f:
         raw = [ln.strip() for ln in f if ln.strip()]
@@ -818,7 +818,7 @@ def main(argv=None):
                          "--set mu_lock=0.13; repeatable")
     ap.add_argument("--shots", metavar="CSV",
                     help="depths of a rigid CRH ogive against the cavity-expansion resistance, "
-                         "for each shot of a data file such as ../shared/data/forrestal1994.csv")
+                         "for each shot of a data file such as data/forrestal1994.csv")
     ap.add_argument("--radius", type=float, default=0.01345, help="projectile radius a (m)")
     ap.add_argument("--crh", type=float, default=2.0, help="ogive calibre radius head")
     ap.add_argument("--geometry", choices=sorted(GEOMETRIES), default="spherical",

@@ -25,7 +25,7 @@
 //! segment: the step ends as if the impulse had come before the drift (the predictor-corrector
 //! form of a kinematic contact). Without this, a node in lasting contact drifted a·Δt² per step
 //! further than the velocity that its elements' strain rate saw, and the projectile's plastic
-//! strain and damage grew in proportion to the step (docs/validation.md, "Known shortcomings").
+//! strain and damage grew in proportion to the step (docs/physics.md §4).
 
 use crate::mesh::MasterSegment;
 

@@ -1,6 +1,7 @@
 //! penetrate: a steel projectile (axisymmetric FEM) penetrating concrete (axisymmetric SPH),
 //! coupled by the sliding-surface algorithm with artificial momentum transport
-//! (Song, Cai & Wang 2006). See `../shared/docs/physics.md` for the equations.
+//! (Song, Cai & Wang 2006). See `docs/physics.md` for the equations and
+//! `docs/architecture.md` for the shape of the program.
 //!
 //! The source tree follows the step: scene (parse, validate) → mesh → materials (pure laws) →
 //! state (structure-of-arrays, f32) → passes (`cpu/<pass>.rs`) → contact correction → output.

@@ -240,8 +240,8 @@ impl Elements {
     /// The largest pressure checkerboard inside one crossed-triangle cell (Pa):
     /// |p₀ − p₁ + p₂ − p₃| / 4 over the cells, a cell being four consecutive elements that share
     /// their third node (its centre, the mesher's order), none of them failed. A smooth field
-    /// gives little; a cell whose triangles take alternating volumes (the mode of README,
-    /// "Known shortcomings") gives its pressure swing. 0 without such cells.
+    /// gives little; a cell whose triangles take alternating volumes (docs/limitations.md,
+    /// "The nose cell's mode") gives its pressure swing. 0 without such cells.
     pub fn max_checkerboard(&self) -> f32 {
         self.nodes
             .chunks_exact(4)

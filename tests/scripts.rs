@@ -1,8 +1,9 @@
 //! The set-up the two README commands share (`scripts/setup.sh`): its Rust version gate keeps a
 //! recent enough `cargo` and replaces an older one, and its minimum is what the locked crates
 //! ask for. And the cavity-expansion script (`scripts/cavity_expansion.py`), whose resistances
-//! the README quotes, passes its own checks against closed forms (the elastic cavity, Hill's
-//! plastic limit, the ogive's integrals) and against the numbers of `hjc.rs`'s unit tests.
+//! docs/notes/2026-11-nose-shape.md quotes, passes its own checks against closed forms (the
+//! elastic cavity, Hill's plastic limit, the ogive's integrals) and against the numbers of
+//! `hjc.rs`'s unit tests.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

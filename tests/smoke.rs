@@ -258,8 +258,8 @@ fn lambda_zero_projectile_is_rigid() {
 /// contact carried its velocity change into the node positions, CFL 0.5 and 0.25 gave 33.7 J
 /// and 13.5 J. With the conjugate gradient (the default) CFL 0.5, 0.25 and 0.125 give 0.214,
 /// 0.267 and 0.283 J: the work converges as the step shrinks, the shipped CFL 0.5 still 20 %
-/// low in this barely yielding nose, so the pair compared is the finer one (docs/validation.md,
-/// "Known shortcomings").
+/// low in this barely yielding nose, so the pair compared is the finer one (docs/limitations.md,
+/// "The nose cell's mode").
 #[test]
 #[ignore = "full tier: long run (bash scripts/test)"]
 fn projectile_plastic_work_does_not_depend_on_the_step() {
@@ -946,10 +946,10 @@ fn every_stability_scene_loads() {
 /// `check-stability` on three of its hardest scenes, CPU path: each completes with the energy
 /// account closed to 1 % of the impact energy, no slave left inside the projectile and no
 /// non-finite value, and the table names them. The 2500 m/s shot; the target no wider than
-/// the shank, which made energy and stopped at 84 µs until the hoop-weight fix (README,
-/// "Stability"); and λ = 1 (each slave's whole momentum change on two nodes), whose account
-/// ends 0.89 % over with the conjugate gradient, the default (1.05 % with the corrected one,
-/// which the suite's own table reports as a failure).
+/// the shank, which made energy and stopped at 84 µs until the hoop-weight fix
+/// (docs/notes/2026-11-stability-suite.md); and λ = 1 (each slave's whole momentum change on
+/// two nodes), whose account ends 0.89 % over with the conjugate gradient, the default (1.05 %
+/// with the corrected one, which the suite's own table reports as a failure).
 #[test]
 #[ignore = "full tier: long run (bash scripts/test)"]
 fn stability_suite_runs_and_closes_the_energy() {

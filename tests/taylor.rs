@@ -1,4 +1,4 @@
-//! Taylor impact of a 4340 steel bar (Johnson & Cook 1983, `../shared/data/taylor.csv`): the FEM
+//! Taylor impact of a 4340 steel bar (Johnson & Cook 1983, `data/taylor.csv`): the FEM
 //! path against a measurement, and its energy balance against a rigid frictionless wall.
 
 use std::path::Path;

@@ -10,9 +10,9 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The measurements, beside the repository (`../shared/data`).
+/// The measurements, in the repository (`data/`).
 fn data() -> PathBuf {
-    root().join("../shared/data")
+    root().join("data")
 }
 
 fn scratch(name: &str) -> PathBuf {

@@ -38,8 +38,8 @@ pub fn check(args: CheckArgs) -> ExitCode {
 /// `check`'s line on the lattice column nearest the shank of radius `shank` (m), with a note
 /// where it lies within 5 % of the spacing and the projectile is rigid (λ = 0): there such a
 /// column made the 277 m/s shot scatter 4 % from one ulp of its speed, against 0.1–0.3 % with
-/// the column 0.4–0.5 mm off (README, "Known shortcomings"; a deforming projectile scattered
-/// as far either way).
+/// the column 0.4–0.5 mm off (docs/limitations.md, "Round-off and single runs"; a deforming
+/// projectile scattered as far either way).
 fn shank_column_line(shank: f64, spacing: f64, lambda: f64) -> String {
     let (column, gap) = mesh::target::nearest_column(shank, spacing);
     let side = if gap >= 0.0 { "outside" } else { "inside" };
@@ -51,7 +51,7 @@ fn shank_column_line(shank: f64, spacing: f64, lambda: f64) -> String {
     );
     if lambda == 0.0 && gap.abs() < 0.05 * spacing {
         line += "; with a rigid projectile a column this close to the shank amplifies round-off \
-                 (README, Known shortcomings): a spacing a few % larger or smaller moves it off";
+                 (docs/limitations.md): a spacing a few % larger or smaller moves it off";
     }
     line + "\n"
 }

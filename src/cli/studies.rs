@@ -108,7 +108,7 @@ pub struct ValidateArgs {
     #[arg(long, default_value = "cases")]
     cases: PathBuf,
     /// Folder of the measurements (taylor.csv, forrestal1994.csv).
-    #[arg(long, default_value = "../shared/data")]
+    #[arg(long, default_value = "data")]
     data: PathBuf,
     /// Take each completed run already in OUT whose resolved scene (its scene.toml),
     /// backend and solver build (this very executable) are the ones asked for, instead of

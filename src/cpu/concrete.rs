@@ -16,7 +16,7 @@ use crate::state::{Particles, SphParams};
 /// − v_i)·∇W` does not shrink with ρ_i, carries a separating particle through zero to a
 /// negative density; without the failure an undamaged particle held there keeps the tension
 /// cut-off −T, which its neighbours feel as σ/ρ², 10⁴ times what it would be at the
-/// reference density (README, "Choices").
+/// reference density (docs/physics.md §3.1).
 pub const MIN_DENSITY_RATIO: f32 = 0.01;
 
 /// The density floor of concrete `c` (kg/m³): [`MIN_DENSITY_RATIO`] of its reference density.

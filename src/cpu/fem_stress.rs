@@ -208,7 +208,7 @@ pub fn run(
 /// failed element is as before (tension cut off, viscosity on compression, the usual step),
 /// so that one step cannot take an element from open to loaded. Without this rule failed
 /// elements sheared and stretched into slivers (a failed element resists no shear) set a step
-/// several times smaller than the body's (README, "Choices").
+/// several times smaller than the body's (docs/physics.md §2.3).
 pub const OPEN_RELATIVE_VOLUME: f32 = 1.02;
 
 /// The state one element carries from step to step.

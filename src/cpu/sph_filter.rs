@@ -1,4 +1,4 @@
-//! `sph_filter`: the velocity filter of `target.velocity_filter = "linear"` (README, "Choices"),
+//! `sph_filter`: the velocity filter of `target.velocity_filter = "linear"` (docs/physics.md §3),
 //! run inside `sph_rates` between its two gradients; the GPU twin is shaders/sph_filter.wgsl.
 
 use rayon::prelude::*;

@@ -1,5 +1,5 @@
 //! `sph_forces`: particle accelerations, gathered over neighbours and axis ghosts
-//! (physics.md §3), in the momentum-conserving ring-mass form (README, "Choices"). With ring
+//! (physics.md §3), in the momentum-conserving ring-mass form (docs/physics.md §3). With ring
 //! masses m = 2π r m̃ the force on ring i from ring j is
 //! `F_ij = 2π m̃_i m̃_j [w_i σ_i/ρ_i² + w_j σ_j/ρ_j² − r̄_ij Π_ij I (+ artificial stress)] · ∇_i W_ij`,
 //! with `w = r` for a neighbour and `w = −r` on both sides for a mirror ghost, and
@@ -15,7 +15,8 @@
 //! is zero there and, at a free face normal to r (the lateral face, a crater's wall), the push
 //! of the particle's own stress against the empty side, the same as the plane's sum gives at a
 //! face normal to z. Weighted by `w_i + w_j` alone, the hoop source cancelled that push, and a
-//! surface particle's excess pressure pulled it toward its neighbours (README, "Stability").
+//! surface particle's excess pressure pulled it toward its neighbours (the stability suite's
+//! `grazing` scene: docs/notes/2026-11-stability-suite.md).
 //!
 //! Why these ghost weights: `w_j = −r_j` (r σ is odd across the axis) keeps `∂σ_zz/∂z`
 //! consistent on the first rows (`w_j = +r_j` would make it 67 % too strong on the first row);

@@ -19,7 +19,7 @@
 //! With the velocity filter on (`target.velocity_filter = "linear"`, [`super::sph_filter`]) L
 //! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
 //! of its neighbours' departures from the linear field that a first L fits: a linear field
-//! passes unchanged, particle-scale scatter is averaged out (README, "Choices").
+//! passes unchanged, particle-scale scatter is averaged out (docs/physics.md §3).
 
 use rayon::prelude::*;
 

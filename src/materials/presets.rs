@@ -169,8 +169,8 @@ fn copper_ofhc() -> SteelConstants {
 /// OFHC copper with Zerilli & Armstrong's (1987, J. Appl. Phys. 61, 1816) fcc flow stress
 /// σ_y = C₀ + C₂√ε_p exp(−C₃T + C₄T ln ε̇) and their copper constants C₂ = 890 MPa,
 /// C₃ = 0.0028/K, C₄ = 0.000115/K, with the athermal C₀ = 46.5 MPa as later evaluations
-/// tabulate it (Banerjee 2005; some papers quote 65 MPa, a larger grain-size term: README
-/// "Copper" gives both results). Every other constant is `copper-ofhc`'s.
+/// tabulate it (Banerjee 2005; some papers quote 65 MPa, a larger grain-size term:
+/// docs/notes/2026-12-copper.md gives both results). Every other constant is `copper-ofhc`'s.
 fn copper_ofhc_za() -> SteelConstants {
     SteelConstants {
         za: Some(ZaConstants {

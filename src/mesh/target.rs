@@ -68,8 +68,8 @@ pub fn lattice(
 
 /// The lattice column (r = (i + ½)Δ) nearest to radius `r`, and how far outside `r` it lies
 /// (negative: inside). `penetrate check` reports it for the projectile's shank: a column that
-/// grazes the shank is met by the contact or not as round-off decides (README, "Known
-/// shortcomings").
+/// grazes the shank is met by the contact or not as round-off decides (docs/limitations.md,
+/// "Round-off and single runs").
 pub fn nearest_column(r: f64, spacing: f64) -> (f64, f64) {
     let i = (r / spacing - 0.5).round().max(0.0);
     let column = (i + 0.5) * spacing;

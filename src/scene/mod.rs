@@ -252,8 +252,7 @@ pub enum VelocityGradient {
     Corrected,
     /// `Σ_j (m̃_j/ρ_i)(v_j − v_i) ⊗ ∇W`, uncorrected: the rate whose stress power is the work
     /// the pair forces (`cpu::sph_forces`) do, so the stress update books the energy the
-    /// motion gives up (docs/validation.md,
-    /// "The stress update sees more strain than the forces pay for").
+    /// motion gives up (docs/physics.md §3).
     Conjugate,
 }
 

@@ -114,6 +114,7 @@ impl Model {
 }
 
 /// Share of the impact energy by which the energy account may be off before a run is stopped
-/// as unstable. Every run of the validation and of the stability suite closes it to 0.7 % or
-/// better (README, "Stability"), so this catches a blow-up, not an inaccuracy.
+/// as unstable. Every run of the validation and of the stability suite closes it to 0.9 % or
+/// better (docs/notes/2026-11-stability-suite.md), so this catches a blow-up, not an
+/// inaccuracy.
 pub const ENERGY_GUARD: f64 = 0.05;

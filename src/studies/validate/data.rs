@@ -1,6 +1,6 @@
-//! The measurements the validation compares with (`--data DIR`, `../shared/data` by default):
-//! Taylor bars (`taylor.csv`) and the Forrestal et al. (1994) shots (`forrestal1994.csv`). Both
-//! files name their columns in the last comment line before the data.
+//! The measurements the validation compares with (`--data DIR`, the repository's `data/` by
+//! default): Taylor bars (`taylor.csv`) and the Forrestal et al. (1994) shots
+//! (`forrestal1994.csv`). Both files name their columns in the last comment line before the data.
 
 use std::path::Path;
 

@@ -264,7 +264,8 @@ impl Settings {
                 convergence_factors: [2.0, 1.5, 1.0, 0.75],
                 deformation: speeds("200:800:150")?,
                 // From 50 m/s: as shipped the wall is undamaged at 112.5 m/s and damaged at
-                // 118.75 m/s (README, the shell study), below the paper's 250 m/s.
+                // 118.75 m/s (docs/notes/2026-11-shipped-validation.md, the shell study), below the
+                // paper's 250 m/s.
                 shell_speeds: speeds("50:450:50")?,
                 shell_tolerance: 10.0,
             }
