@@ -1,11 +1,11 @@
 //! The validated scope of a penetration: what the shipped validation covers (the Forrestal et
-//! al. 1994 shots of `data/forrestal1994.csv`, summed up in `docs/validation/summary.md`), so that
-//! `run` can say in one line when a scene lies outside it. Accuracy is only known inside.
+//! al. 1994 shots of `data/forrestal1994.csv`, in the README's accuracy table), so that `run`
+//! can say in one line when a scene lies outside it. Accuracy is only known inside.
 
 use crate::scene::{ProjectileShape, Scene};
 
-/// Where the report lists what was validated and how well.
-pub const VALIDATION_SUMMARY: &str = "docs/validation/summary.md";
+/// Where a user reads what was validated and how well.
+pub const VALIDATION_SUMMARY: &str = "README.md, \"Accuracy at a glance\"";
 
 /// The validated shots' nose: a tangent ogive of this calibre-radius-head
 /// (forrestal1994.csv's header: ogive radius 53.8 mm on a 26.9 mm shank).

@@ -99,7 +99,7 @@ fn a_scene_outside_the_validated_scope_is_told_so() {
     assert_eq!(lines.len(), 1, "{text}");
     assert!(
         lines[0].starts_with("note: outside the validated scope (diameter 20 mm")
-            && lines[0].contains("docs/validation/summary.md"),
+            && lines[0].contains("see README.md, \"Accuracy at a glance\""),
         "{text}"
     );
     let _ = std::fs::remove_dir_all(&dir);

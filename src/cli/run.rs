@@ -18,7 +18,8 @@ pub struct RunArgs {
     /// Which implementation of the step runs (overrides the scene's run.backend).
     #[arg(long, value_enum)]
     backend: Option<BackendArg>,
-    /// Output directory [default: runs/<scene name>].
+    /// Output directory [default: runs/<scene name>; with --restart, the restart file's
+    /// folder].
     #[arg(long)]
     out: Option<PathBuf>,
     /// Override a scene value, e.g. --set projectile.velocity=499 (repeatable).
@@ -33,10 +34,30 @@ pub struct RunArgs {
     /// GPU adapter to use: part of its name as `penetrate adapters` lists it.
     #[arg(long)]
     adapter: Option<String>,
+    /// Write a checkpoint, restart.bin in the output directory, every SECONDS of simulated
+    /// time. Each replaces the last whole: a run killed while writing one keeps the one
+    /// before. --restart goes on from it.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    checkpoint_every: Option<f64>,
+    /// Go on with a run from its checkpoint (restart.bin) instead of starting it: the same
+    /// case and --set values, the same build of penetrate, the output directory it was written
+    /// in (the default). history.csv and the frames go on from the checkpoint, and the run
+    /// ends as it would have without stopping (bit for bit on the CPU). --backend may differ;
+    /// --no-vtk must not. Exit code 2 when the file is damaged or does not fit.
+    #[arg(long, value_name = "FILE")]
+    restart: Option<PathBuf>,
 }
 
-/// Runs the scene and prints how it ended: 0 completed, 1 unstable or stopped, 2 bad scene, 3
-/// outputs not written.
+/// A time span in seconds: a positive finite number.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("`{text}` is not a positive number of seconds")),
+    }
+}
+
+/// Runs the scene and prints how it ended: 0 completed, 1 unstable or stopped, 2 bad scene or
+/// restart file, 3 outputs not written.
 pub fn run(args: RunArgs) -> ExitCode {
     let RunArgs {
         case,
@@ -46,19 +67,27 @@ pub fn run(args: RunArgs) -> ExitCode {
         quiet,
         no_vtk,
         adapter,
+        checkpoint_every,
+        restart,
     } = args;
     let scene = match scene::load(&case, &set) {
         Ok(s) => s,
         Err(e) => return fail(2, &e.to_string()),
     };
     let backend = backend.map_or(scene.run.backend, Backend::from);
-    let out = out.unwrap_or_else(|| PathBuf::from("runs").join(&scene.name));
+    let out = out.unwrap_or_else(|| match restart.as_deref().and_then(|file| file.parent()) {
+        Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
+        Some(_) => PathBuf::from("."),
+        None => PathBuf::from("runs").join(&scene.name),
+    });
     let opts = RunOptions {
         out: out.clone(),
         quiet,
         vtk: !no_vtk,
         backend: Some(backend),
         adapter,
+        checkpoint_every,
+        restart,
     };
     match solver::run(&scene, &opts) {
         Ok(outcome) => {
@@ -112,6 +141,7 @@ pub fn run(args: RunArgs) -> ExitCode {
             }
         }
         Err(solver::RunError::Output(e)) => fail(3, &e.to_string()),
+        Err(solver::RunError::Restart(e)) => fail(2, &e.to_string()),
         Err(solver::RunError::Setup(m)) => fail(2, &format!("{}: {m}", case.display())),
         Err(solver::RunError::Gpu { error, when: None }) => {
             fail(2, &format!("{}: {error}", case.display()))

@@ -1,13 +1,13 @@
 //! `history.csv`: one row per history interval.
 
 use std::fs::File;
-use std::io::{self, Seek, SeekFrom, Write};
+use std::io::{self, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use serde::{Serialize, Serializer};
 
 /// One row of the time series.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Row {
     pub time: f64,
     pub step: u64,
@@ -156,6 +156,21 @@ pub struct History {
     written: u64,
     /// The last row written and its mean contact and nose forces (N).
     last: Option<(Row, f64, f64)>,
+    /// CRC-32 of the bytes in the file, for a restart to know the file it continues.
+    crc: crc32fast::Hasher,
+}
+
+/// Where a history stood when a checkpoint was written: what a restart needs to go on with it
+/// as if the run had never stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mark {
+    /// Bytes of whole rows in the file (the header included).
+    pub bytes: u64,
+    /// Their CRC-32.
+    pub crc: u32,
+    /// The last row written and its mean contact and nose forces (N): the next row's forces
+    /// are differences from it.
+    pub last: Option<(Row, f64, f64)>,
 }
 
 impl History {
@@ -167,9 +182,40 @@ impl History {
             pending: format!("{}\n", header()?).into_bytes(),
             written: 0,
             last: None,
+            crc: crc32fast::Hasher::new(),
         };
         history.flush()?;
         Ok(history)
+    }
+
+    /// The rows gathered so far sent to the file, and where the file stands.
+    pub fn mark(&mut self) -> io::Result<Mark> {
+        self.flush()?;
+        Ok(Mark {
+            bytes: self.written,
+            crc: self.crc.clone().finalize(),
+            last: self.last,
+        })
+    }
+
+    /// The file at `path` as it stood at `mark`, to be written on: what a run killed after the
+    /// mark wrote beyond it is cut off. The caller has checked it with [`check_prefix`].
+    pub fn resume(path: &Path, mark: &Mark) -> io::Result<History> {
+        let mut file = File::options()
+            .write(true)
+            .open(path)
+            .map_err(|e| super::named(path, e))?;
+        file.set_len(mark.bytes)
+            .and_then(|()| file.seek(SeekFrom::End(0)))
+            .map_err(|e| super::named(path, e))?;
+        Ok(History {
+            file,
+            path: path.to_path_buf(),
+            pending: Vec::new(),
+            written: mark.bytes,
+            last: mark.last,
+            crc: crc32fast::Hasher::new_with_initial(mark.crc),
+        })
     }
 
     /// Appends `r`, with the mean axial contact force since the previous row, on the whole
@@ -229,6 +275,9 @@ impl History {
             return Ok(());
         }
         let sent = self.file.write_all(&self.pending);
+        if sent.is_ok() {
+            self.crc.update(&self.pending);
+        }
         let len = self.pending.len() as u64;
         self.pending.clear();
         match sent {
@@ -242,6 +291,44 @@ impl History {
                 Err(super::named(&self.path, e))
             }
         }
+    }
+}
+
+/// Why the file at `path` is not the history `mark` was taken of (it is shorter, or its first
+/// `mark.bytes` differ), if it is not.
+pub fn check_prefix(path: &Path, mark: &Mark) -> Result<(), String> {
+    let file = File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut crc = crc32fast::Hasher::new();
+    let read = io::copy(&mut file.take(mark.bytes), &mut HashWriter(&mut crc))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if read < mark.bytes {
+        return Err(format!(
+            "{} holds {read} bytes, fewer than the {} it had at the checkpoint",
+            path.display(),
+            mark.bytes
+        ));
+    }
+    if crc.finalize() != mark.crc {
+        return Err(format!(
+            "the first {} bytes of {} are not the rows the checkpoint's run wrote",
+            mark.bytes,
+            path.display()
+        ));
+    }
+    Ok(())
+}
+
+/// Bytes written into a CRC-32.
+struct HashWriter<'a>(&'a mut crc32fast::Hasher);
+
+impl Write for HashWriter<'_> {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.0.update(bytes);
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
     }
 }
 

@@ -14,27 +14,62 @@ pub fn create_folder(dir: &std::path::Path) -> std::io::Result<()> {
     })
 }
 
+/// A run's checkpoint in its output folder (`penetrate run --checkpoint-every`).
+pub const RESTART_FILE: &str = "restart.bin";
+
+/// The files a run writes besides its frames and `scene.toml`.
+const RUN_FILES: [&str; 4] = ["summary.json", "history.csv", "frames.pvd", RESTART_FILE];
+
 /// Removes what an earlier run left in `dir` that this one may not overwrite: its
 /// `summary.json` and `history.csv` (a run refused or killed before writing its own must not
-/// show the last one's) and its frames (`frames.pvd`, `target_NNNNN.vtu`,
-/// `projectile_NNNNN.vtu`: a shorter run, or one without frames, would otherwise sit beside the
-/// last one's), and any of these a killed run left half-written (`<name>.partial`,
-/// [`write_whole`]). Nothing else is touched.
+/// show the last one's), its frames (`frames.pvd`, `target_NNNNN.vtu`, `projectile_NNNNN.vtu`:
+/// a shorter run, or one without frames, would otherwise sit beside the last one's) and its
+/// checkpoint (`restart.bin`, which continues that run's history, not this one's), and any of
+/// these a killed run left half-written (`<name>.partial`, [`write_whole`]). Nothing else is
+/// touched.
 pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
-    let frame = |name: &str| {
-        ["target_", "projectile_"].iter().any(|prefix| {
-            name.strip_prefix(prefix)
-                .and_then(|rest| rest.strip_suffix(".vtu"))
-                .is_some_and(|n| n.len() >= 5 && n.bytes().all(|b| b.is_ascii_digit()))
-        })
-    };
+    remove_outputs(dir, |name, _| {
+        RUN_FILES.contains(&name) || frame_number(name).is_some()
+    })
+}
+
+/// Removes what a run killed after its checkpoint wrote that a restart from it writes again:
+/// `summary.json` (of an earlier end of the run), the frames from number `frames` on, and
+/// what was left half-written. The checkpoint itself stays until the restart writes its next.
+pub fn clear_after_checkpoint(dir: &std::path::Path, frames: usize) -> std::io::Result<()> {
+    remove_outputs(dir, |name, partial| {
+        name == "summary.json"
+            || frame_number(name).is_some_and(|n| n >= frames as u64)
+            || (partial && (RUN_FILES.contains(&name) || frame_number(name).is_some()))
+    })
+}
+
+/// The number of a frame file, `target_NNNNN.vtu` or `projectile_NNNNN.vtu` (one past any
+/// run's frames where it has more digits than a u64 holds).
+fn frame_number(name: &str) -> Option<u64> {
+    ["target_", "projectile_"].iter().find_map(|prefix| {
+        name.strip_prefix(prefix)
+            .and_then(|rest| rest.strip_suffix(".vtu"))
+            .filter(|n| n.len() >= 5 && n.bytes().all(|b| b.is_ascii_digit()))
+            .map(|n| n.parse().unwrap_or(u64::MAX))
+    })
+}
+
+/// Removes the plain files of `dir` that `doomed` picks by name, `.partial` taken off (and
+/// whether it was there).
+fn remove_outputs(
+    dir: &std::path::Path,
+    doomed: impl Fn(&str, bool) -> bool,
+) -> std::io::Result<()> {
     for entry in std::fs::read_dir(dir)? {
         let entry = entry?;
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        let name = name.strip_suffix(".partial").unwrap_or(name);
-        let ours = ["summary.json", "history.csv", "frames.pvd"].contains(&name);
-        if (ours || frame(name)) && entry.file_type()?.is_file() {
+        let (name, partial) = match name.strip_suffix(".partial") {
+            Some(name) => (name, true),
+            None => (name, false),
+        };
+        if doomed(name, partial) && entry.file_type()?.is_file() {
             std::fs::remove_file(entry.path())?;
         }
     }

@@ -91,8 +91,25 @@ impl Collection {
         }
     }
 
+    /// A restarted run's collection: the `entries` its checkpoint kept, written out at once,
+    /// so that frames a killed run wrote after the checkpoint are no longer listed.
+    pub fn resume(path: PathBuf, entries: Vec<(f64, usize, String)>) -> io::Result<Collection> {
+        let pvd = Collection { path, entries };
+        pvd.write()?;
+        Ok(pvd)
+    }
+
+    /// The entries so far: time (s), part (0 the target, 1 the projectile) and file name.
+    pub fn entries(&self) -> &[(f64, usize, String)] {
+        &self.entries
+    }
+
     pub fn add(&mut self, time: f64, part: usize, file: &str) -> io::Result<()> {
         self.entries.push((time, part, file.to_string()));
+        self.write()
+    }
+
+    fn write(&self) -> io::Result<()> {
         let mut s = String::from("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n");
         for (t, p, f) in &self.entries {
             let _ = writeln!(s, "<DataSet timestep=\"{t:e}\" part=\"{p}\" file=\"{f}\"/>");

@@ -4,7 +4,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-use super::MIN_STEP;
+use super::{RestartError, MIN_STEP};
 use crate::gpu::GpuError;
 
 /// Why a run stopped early or went wrong.
@@ -16,6 +16,8 @@ pub enum RunError {
     Gpu { error: GpuError, when: Option<When> },
     /// The run went unstable: what, where and when.
     Unstable(Instability),
+    /// A restart file that cannot be read or does not go on with this run (boxed, as `Output`).
+    Restart(Box<RestartError>),
     /// An output could not be written (boxed: the other kinds are small, and every step
     /// returns this type).
     Output(Box<OutputError>),
@@ -31,6 +33,7 @@ impl fmt::Display for RunError {
                 when: Some(w),
             } => write!(f, "GPU failed {w}: {error}"),
             RunError::Unstable(i) => write!(f, "unstable: {i}"),
+            RunError::Restart(e) => write!(f, "{e}"),
             RunError::Output(e) => write!(f, "output: {e}"),
         }
     }
@@ -197,6 +200,8 @@ pub enum Output {
     Frame(usize),
     /// `summary.json`.
     Summary,
+    /// The checkpoint, `restart.bin`.
+    Checkpoint,
 }
 
 /// An output the disk refused: which, the system's reason (naming the file), and when.

@@ -5,11 +5,12 @@
 //! that advances it, on the CPU reference path (`cpu_step`) or on the GPU (`gpu_step`). The
 //! model is reached only through [`Simulation::model`], which brings the host's copy up to
 //! date first, so what a caller reads is never stale. Building (`build`), the energy account
-//! (`account`), what is measured of the state (`diagnostics`), what is written (`outputs`) and
-//! the run loop (`run`) have their own modules.
+//! (`account`), what is measured of the state (`diagnostics`), what is written (`outputs`), the
+//! run loop (`run`) and its checkpoints (`checkpoint`) have their own modules.
 
 mod account;
 mod build;
+mod checkpoint;
 mod cpu_step;
 mod diagnostics;
 mod error;
@@ -19,6 +20,7 @@ mod run;
 
 pub use account::ENERGY_GUARD;
 pub use build::{auto_gpu, build, resolve};
+pub use checkpoint::{Checkpoint, Counters, FrameEntry, Refusal, RestartError, State, VERSION};
 pub use cpu_step::MIN_STEP;
 pub use error::{
     Entity, Instability, Kept, Moving, Output, OutputError, OutputFailure, RunError, Unstable, When,

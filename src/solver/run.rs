@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::build::attach;
+use super::checkpoint::{self, Counters, Restart};
 use super::{Kept, Model, Output, OutputError, OutputFailure, RunError, Simulation};
 use crate::mesh;
 use crate::output;
@@ -25,6 +26,10 @@ pub struct RunOptions {
     pub backend: Option<Backend>,
     /// Part of the GPU adapter's name (`--adapter`).
     pub adapter: Option<String>,
+    /// Write a checkpoint into `out` every this much simulated time (s, `--checkpoint-every`).
+    pub checkpoint_every: Option<f64>,
+    /// Go on from this checkpoint instead of starting (`--restart`).
+    pub restart: Option<PathBuf>,
 }
 
 impl RunOptions {
@@ -36,6 +41,8 @@ impl RunOptions {
             vtk: true,
             backend: None,
             adapter: None,
+            checkpoint_every: None,
+            restart: None,
         }
     }
 }
@@ -53,6 +60,9 @@ pub struct RunOutcome {
 /// where in `status`, and keeps what it had written. So does a run whose outputs the disk stops
 /// taking, as far as the disk lets it: its files end whole, `summary.json` is written where it
 /// fits, and it returns [`RunError::Output`] saying which output, when, and what was kept.
+/// With `opts.restart` it goes on from a checkpoint, writing on the outputs that checkpoint's
+/// run left, as if it had never stopped; a checkpoint that does not fit is refused
+/// ([`RunError::Restart`]) before anything is written.
 pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     // A refusal before the run steps: there is nothing of it to keep yet.
     let early = |what: Output| {
@@ -61,8 +71,11 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         }
     };
     output::create_folder(&opts.out).map_err(early(Output::Folder))?;
-    output::clear_previous_run(&opts.out)
-        .map_err(|e| early(Output::Previous)(output::named(&opts.out, e)))?;
+    let mut restart = Restart::open(scene, opts)?;
+    if restart.is_none() {
+        output::clear_previous_run(&opts.out)
+            .map_err(|e| early(Output::Previous)(output::named(&opts.out, e)))?;
+    }
     // What exactly ran, every default resolved (`penetrate validate --resume` compares it).
     let resolved = scene.resolved_table();
     output::write_whole(&opts.out.join(SCENE_FILE), resolved.as_bytes())
@@ -71,7 +84,14 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let backend = opts.backend.unwrap_or(scene.run.backend);
     let history_file = opts.out.join("history.csv");
     let mut model = Model::assemble(scene)?;
-    let started_up = model.start();
+    let started_up = match restart.as_mut() {
+        // The checkpoint's state comes with the forces and Δt of the step it had reached.
+        Some(r) => {
+            r.restore(&mut model)?;
+            Ok(())
+        }
+        None => model.start(),
+    };
     let mut sim = Simulation::on_cpu(model);
     if let Err(e) = started_up {
         // The scene as built cannot take a step (its first forces or Δt, on the CPU): the
@@ -89,20 +109,29 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     let (backend, fell_back) = super::build::resolve(backend, opts.adapter.as_deref());
     attach(&mut sim, backend, opts.adapter.as_deref())?;
     warn_from_estimate(scene, &opts.out, opts.vtk, fell_back.as_deref());
-    let mut history = History::create(&history_file).map_err(early(Output::History))?;
-    let mut pvd = vtk::Collection::new(opts.out.join("frames.pvd"));
+    let (mut history, mut pvd) = match &restart {
+        Some(r) => r
+            .resume_outputs(&opts.out)
+            .map_err(early(Output::Previous))?,
+        None => (
+            History::create(&history_file).map_err(early(Output::History))?,
+            vtk::Collection::new(opts.out.join("frames.pvd")),
+        ),
+    };
     let mut frame = 0;
     // The step of the last frame written: the last frame is not written twice.
     let mut frame_step = None;
-    if opts.vtk {
+    if opts.vtk && restart.is_none() {
         sim.write_frame(&opts.out, frame, &mut pvd)?
             .map_err(early(Output::Frame(frame)))?;
         frame += 1;
         frame_step = Some(sim.steps());
     }
-    history
-        .write(&sim.history_row()?)
-        .map_err(early(Output::History))?;
+    if restart.is_none() {
+        history
+            .write(&sim.history_row()?)
+            .map_err(early(Output::History))?;
+    }
     // The step of the last row written: the last row is not written twice.
     let mut history_step = sim.steps();
     // Set once the disk refused an output: the run stops there.
@@ -113,6 +142,17 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     } else {
         f64::MAX
     };
+    if let Some(r) = &restart {
+        // Where the run the checkpoint was written of stood: frames and rows go on from there.
+        Counters {
+            frame,
+            frame_step,
+            history_step,
+            next_history,
+            next_frame,
+        } = r.counters();
+    }
+    let mut next_checkpoint = checkpoint::next_due(sim.time(), opts.checkpoint_every);
     let mut progress = Progress::new(scene.run.end_time, opts.quiet);
     let (status, reason, ok) = loop {
         if crate::interrupt::requested() {
@@ -177,6 +217,27 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             frame += 1;
             frame_step = Some(sim.steps());
             next_frame += scene.run.output_interval;
+        }
+        if sim.time() >= next_checkpoint {
+            let counters = Counters {
+                frame,
+                frame_step,
+                history_step,
+                next_history,
+                next_frame,
+            };
+            let frames = opts.vtk.then_some(&pvd);
+            match checkpoint::save(&mut sim, &opts.out, &mut history, frames, counters) {
+                Ok(Ok(())) => {}
+                Ok(Err((what, e))) => {
+                    let failure = OutputFailure::new(what, &e, Some(sim.model.when()));
+                    let status = failure.to_string();
+                    refused = Some(failure);
+                    break (status, String::new(), false);
+                }
+                Err(e) => break (e.to_string(), String::new(), false),
+            }
+            next_checkpoint = checkpoint::next_due(sim.time(), opts.checkpoint_every);
         }
     };
     progress.finish();

@@ -271,6 +271,8 @@ pub fn run(
                         vtk: false,
                         backend: Some(backend),
                         adapter: adapter.map(str::to_string),
+                        checkpoint_every: None,
+                        restart: None,
                     };
                     match solver::run(&scene, &opts) {
                         Ok(o) => Ok(o.summary),

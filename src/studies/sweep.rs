@@ -260,6 +260,8 @@ pub fn run_set(
             vtk: settings.vtk,
             backend: Some(spec.backend),
             adapter: settings.adapter.clone(),
+            checkpoint_every: None,
+            restart: None,
         };
         let outcome = match solver::run(&scene, &opts) {
             Ok(o) => Ok(o.summary),
@@ -513,6 +515,8 @@ mod tests {
             vtk: false,
             backend: Some(Backend::Cpu),
             adapter: None,
+            checkpoint_every: None,
+            restart: None,
         };
         solver::run(&scene, &opts).unwrap();
         let taken = || completed_run(&dir, &scene, Backend::Cpu, None, false, &[]);

@@ -16,6 +16,8 @@ pub fn run_cpu(scene: &Scene, out: &Path, vtk: bool) -> RunOutcome {
             vtk,
             backend: Some(Backend::Cpu),
             adapter: None,
+            checkpoint_every: None,
+            restart: None,
         },
     )
     .unwrap()

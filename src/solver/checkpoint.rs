@@ -1,0 +1,1028 @@
+//! Checkpoints of a run (`penetrate run --checkpoint-every`) and the restart from one
+//! (`--restart`). A checkpoint holds everything that decides the steps still to come and the
+//! outputs still to be written, so that a run killed and restarted ends as it would have
+//! uninterrupted: bit for bit on the CPU path, which rebuilds its neighbour grid every step
+//! and keeps nothing else between steps. A GPU run's state is read back to be written, and a
+//! restart may go onto either backend; the GPU's neighbour lists are rebuilt on it.
+//!
+//! The file, `restart.bin` in the output folder, little-endian throughout:
+//!
+//! | bytes | what |
+//! |---|---|
+//! | 8 | magic, `PENETRST` |
+//! | 4 | format version, [`VERSION`] |
+//! | 8 | payload length in bytes |
+//! | 4 | CRC-32 (IEEE) of the payload |
+//! | … | payload |
+//!
+//! The payload, in order: the solver build that wrote it (`output::summary::build_id`), the
+//! resolved scene (`Scene::resolved_table`); the model's time, step, next Δt and last hit
+//! count, its [`Account`]; every array of the particles, the projectile's nodes and its
+//! elements, in their structs' field order; the run loop's [`Counters`]; where `history.csv`
+//! stood ([`Mark`]); the entries of `frames.pvd`, or none for a run without frames. An array
+//! is its length (u64) and its items, a string its length in bytes (u64) and its UTF-8, an
+//! option a byte 0 or 1 and the value, a `usize` a u64, a struct its fields in order. The
+//! field lists below are exhaustive patterns: a field added to a state struct does not compile
+//! until it is written here too (and [`VERSION`] goes up).
+//!
+//! A restart is refused unless the same build of the solver wrote the file (the executable's
+//! fingerprint, as `validate --resume` asks of a run): the run's `summary.json` names one
+//! build, and another build's step need not be the same step, so a run continued by another
+//! would be a mixture that no build reproduces. The scene must resolve to the same table, and
+//! the output folder must hold the `history.csv` the checkpoint counts.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use super::{Account, Model, Output, RunError, RunOptions, Simulation};
+use crate::output::history::{self, History, Mark, Row};
+use crate::output::summary::{build_id, same_build};
+use crate::output::{self, vtk, RESTART_FILE};
+use crate::scene::Scene;
+use crate::state::{Elements, Nodes, Particles};
+
+/// The format's version: raised whenever the payload changes, so that an older file is
+/// refused by name rather than misread.
+pub const VERSION: u32 = 1;
+
+const MAGIC: [u8; 8] = *b"PENETRST";
+
+/// Magic, version, payload length and checksum.
+const HEADER: usize = 24;
+
+/// A frame as `frames.pvd` lists it: time (s), part (0 the target, 1 the projectile), file.
+pub type FrameEntry = (f64, usize, String);
+
+/// What a restart file holds.
+#[derive(Clone, Debug)]
+pub struct Checkpoint {
+    /// The solver build that wrote it (`output::summary::build_id`).
+    pub build: String,
+    /// The run's resolved scene (`Scene::resolved_table`).
+    pub scene: String,
+    pub state: State,
+    pub counters: Counters,
+    pub history: Mark,
+    /// The entries of `frames.pvd`; `None` for a run without frames (`--no-vtk`).
+    pub frames: Option<Vec<FrameEntry>>,
+}
+
+/// What of a model changes as it steps; the rest is built again from the scene.
+#[derive(Clone, Debug, Default)]
+pub struct State {
+    /// s
+    pub time: f64,
+    pub step: u64,
+    /// The next step's Δt (s), evaluated at the end of the last one.
+    pub dt: f32,
+    pub last_hits: usize,
+    pub account: Account,
+    pub particles: Particles,
+    pub nodes: Nodes,
+    pub elements: Elements,
+}
+
+/// Where the run loop stood besides the model: the frames and rows it had written, and when
+/// the next ones are due.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counters {
+    /// Frames written: the next frame's number.
+    pub frame: usize,
+    /// The step of the last frame written.
+    pub frame_step: Option<u64>,
+    /// The step of the last history row written.
+    pub history_step: u64,
+    /// When the next history row is due (s).
+    pub next_history: f64,
+    /// When the next frame is due (s).
+    pub next_frame: f64,
+}
+
+/// A checkpoint's contents, borrowed: from a running model to write it, or from a
+/// [`Checkpoint`]. [`Checkpoint::decode`] reads them back in this order.
+struct Parts<'a> {
+    build: &'a str,
+    scene: &'a str,
+    time: f64,
+    step: u64,
+    dt: f32,
+    last_hits: usize,
+    account: &'a Account,
+    particles: &'a Particles,
+    nodes: &'a Nodes,
+    elements: &'a Elements,
+    counters: &'a Counters,
+    history: &'a Mark,
+    frames: Option<&'a [FrameEntry]>,
+}
+
+impl<'a> Parts<'a> {
+    /// The checkpoint of `m`, of the scene whose resolved table is `scene`, by this build.
+    fn of(
+        m: &'a Model,
+        scene: &'a str,
+        counters: &'a Counters,
+        history: &'a Mark,
+        frames: Option<&'a [FrameEntry]>,
+    ) -> Parts<'a> {
+        Parts {
+            build: build_id(),
+            scene,
+            time: m.time,
+            step: m.step,
+            dt: m.dt,
+            last_hits: m.last_hits,
+            account: &m.account,
+            particles: &m.particles,
+            nodes: &m.projectile.nodes,
+            elements: &m.projectile.elements,
+            counters,
+            history,
+            frames,
+        }
+    }
+
+    /// The file's bytes: header and payload.
+    fn encode(&self) -> Vec<u8> {
+        let mut out = vec![0; HEADER];
+        let w = &mut out;
+        self.build.put(w);
+        self.scene.put(w);
+        self.time.put(w);
+        self.step.put(w);
+        self.dt.put(w);
+        self.last_hits.put(w);
+        self.account.put(w);
+        self.particles.put(w);
+        self.nodes.put(w);
+        self.elements.put(w);
+        self.counters.put(w);
+        self.history.put(w);
+        self.frames.put(w);
+        let payload = &out[HEADER..];
+        let mut header = Vec::with_capacity(HEADER);
+        header.extend(MAGIC);
+        VERSION.put(&mut header);
+        (payload.len() as u64).put(&mut header);
+        crc32fast::hash(payload).put(&mut header);
+        out[..HEADER].copy_from_slice(&header);
+        out
+    }
+}
+
+impl Checkpoint {
+    /// The file's bytes.
+    pub fn encode(&self) -> Vec<u8> {
+        let s = &self.state;
+        Parts {
+            build: &self.build,
+            scene: &self.scene,
+            time: s.time,
+            step: s.step,
+            dt: s.dt,
+            last_hits: s.last_hits,
+            account: &s.account,
+            particles: &s.particles,
+            nodes: &s.nodes,
+            elements: &s.elements,
+            counters: &self.counters,
+            history: &self.history,
+            frames: self.frames.as_deref(),
+        }
+        .encode()
+    }
+
+    /// A checkpoint from a file's bytes: refused when they are short, not a restart file, of
+    /// another format version, or not what was written (checksum).
+    pub fn decode(bytes: &[u8]) -> Result<Checkpoint, Refusal> {
+        let seen = bytes.len().min(MAGIC.len());
+        if bytes[..seen] != MAGIC[..seen] {
+            return Err(Refusal::NotACheckpoint);
+        }
+        let truncated = |needed: usize| Refusal::Truncated {
+            bytes: bytes.len() as u64,
+            needed: needed as u64,
+        };
+        let mut header = Reader::new(bytes.get(MAGIC.len()..HEADER).ok_or(truncated(HEADER))?);
+        let malformed = Refusal::Malformed;
+        let version = u32::get(&mut header).map_err(malformed)?;
+        if version != VERSION {
+            return Err(Refusal::Version { found: version });
+        }
+        let length = u64::get(&mut header).map_err(malformed)?;
+        let stored = u32::get(&mut header).map_err(malformed)?;
+        let payload = &bytes[HEADER..];
+        if (payload.len() as u64) < length {
+            return Err(truncated(HEADER.saturating_add(length as usize)));
+        }
+        if payload.len() as u64 > length {
+            return Err(Refusal::Malformed(format!(
+                "{} bytes follow the {length} of the payload its header gives",
+                payload.len() as u64 - length
+            )));
+        }
+        let computed = crc32fast::hash(payload);
+        if computed != stored {
+            return Err(Refusal::Checksum { stored, computed });
+        }
+        Checkpoint::parse(&mut Reader::new(payload)).map_err(malformed)
+    }
+
+    /// The payload, in the order [`Parts::encode`] writes it.
+    fn parse(r: &mut Reader<'_>) -> Result<Checkpoint, String> {
+        let build = Get::get(r)?;
+        let scene = Get::get(r)?;
+        let state = State {
+            time: Get::get(r)?,
+            step: Get::get(r)?,
+            dt: Get::get(r)?,
+            last_hits: Get::get(r)?,
+            account: Get::get(r)?,
+            particles: Get::get(r)?,
+            nodes: Get::get(r)?,
+            elements: Get::get(r)?,
+        };
+        let checkpoint = Checkpoint {
+            build,
+            scene,
+            state,
+            counters: Get::get(r)?,
+            history: Get::get(r)?,
+            frames: Get::get(r)?,
+        };
+        match r.bytes.len() - r.at {
+            0 => Ok(checkpoint),
+            left => Err(format!("{left} bytes are left after its last field")),
+        }
+    }
+
+    /// The checkpoint in `file`.
+    pub fn read(file: &Path) -> Result<Checkpoint, RestartError> {
+        let refused = |refusal| RestartError {
+            file: file.to_path_buf(),
+            refusal,
+        };
+        let bytes = std::fs::read(file).map_err(|e| refused(Refusal::Unreadable(e.to_string())))?;
+        Checkpoint::decode(&bytes).map_err(refused)
+    }
+}
+
+/// Writes the checkpoint of `sim` into `out`, whole or not at all (the last one stays until
+/// the new one is complete): its state (read back first from a GPU), the loop's `counters`, the
+/// history, its rows sent to the file first so that the file holds every row the checkpoint
+/// counts, and `frames`, the run's frame collection where it writes frames. A read-back that
+/// fails is the outer error; an output the disk refused, the inner one.
+pub(super) fn save(
+    sim: &mut Simulation,
+    out: &Path,
+    history: &mut History,
+    frames: Option<&vtk::Collection>,
+    counters: Counters,
+) -> Result<Result<(), (Output, std::io::Error)>, RunError> {
+    let mark = match history.mark() {
+        Ok(mark) => mark,
+        Err(e) => return Ok(Err((Output::History, e))),
+    };
+    let m = sim.model()?;
+    let scene = m.scene.resolved_table();
+    let frames = frames.map(vtk::Collection::entries);
+    let bytes = Parts::of(m, &scene, &counters, &mark, frames).encode();
+    Ok(output::write_whole(&out.join(RESTART_FILE), &bytes).map_err(|e| (Output::Checkpoint, e)))
+}
+
+/// When the checkpoint after `time` is due (s): the next multiple of `every`; never without.
+pub(super) fn next_due(time: f64, every: Option<f64>) -> f64 {
+    every.map_or(f64::INFINITY, |every| {
+        every * ((time / every).floor() + 1.0)
+    })
+}
+
+/// A checkpoint a run goes on from (`RunOptions::restart`), checked against the scene and the
+/// output folder.
+pub(super) struct Restart {
+    file: PathBuf,
+    checkpoint: Checkpoint,
+}
+
+impl Restart {
+    /// The checkpoint `opts.restart` names, if any, read and checked: written by this build,
+    /// of `scene` as resolved, with frames as `opts.vtk` asks, its `history.csv` in `opts.out`
+    /// as it was then. Nothing in the output folder is touched here.
+    pub(super) fn open(scene: &Scene, opts: &RunOptions) -> Result<Option<Restart>, RunError> {
+        let Some(file) = &opts.restart else {
+            return Ok(None);
+        };
+        let refused = |refusal| {
+            RunError::Restart(Box::new(RestartError {
+                file: file.clone(),
+                refusal,
+            }))
+        };
+        let checkpoint = Checkpoint::read(file).map_err(|e| RunError::Restart(Box::new(e)))?;
+        if !same_build(&checkpoint.build) {
+            return Err(refused(Refusal::OtherBuild {
+                file: checkpoint.build,
+                this: build_id().to_string(),
+            }));
+        }
+        let differences = scene_differences(&checkpoint.scene, &scene.resolved_table());
+        if !differences.is_empty() {
+            return Err(refused(Refusal::OtherScene(differences)));
+        }
+        if checkpoint.frames.is_some() != opts.vtk {
+            return Err(refused(Refusal::Frames {
+                written: checkpoint.frames.is_some(),
+            }));
+        }
+        history::check_prefix(&opts.out.join("history.csv"), &checkpoint.history)
+            .map_err(|why| refused(Refusal::History(why)))?;
+        Ok(Some(Restart {
+            file: file.clone(),
+            checkpoint,
+        }))
+    }
+
+    /// Puts the checkpoint's state into `model`, built from the same scene: the forces and the
+    /// Δt of the step it had reached come with it. Refused where its arrays do not fit the
+    /// model (only a file made by hand gets past the build and scene checks with such).
+    pub(super) fn restore(&mut self, model: &mut Model) -> Result<(), RunError> {
+        if let Some(why) = self.misfit(model) {
+            return Err(self.refused(Refusal::OtherModel(why)));
+        }
+        let s = &mut self.checkpoint.state;
+        model.particles = std::mem::take(&mut s.particles);
+        model.projectile.nodes = std::mem::take(&mut s.nodes);
+        model.projectile.elements = std::mem::take(&mut s.elements);
+        model.time = s.time;
+        model.step = s.step;
+        model.dt = s.dt;
+        model.last_hits = s.last_hits;
+        model.account = s.account;
+        // The grid of the positions as they stand, as the last step left it.
+        if let Some(sph) = &model.sph {
+            let p = &model.particles;
+            let support = crate::cpu::integrate::support(sph);
+            crate::cpu::neighbours::run(&mut model.grid, &p.r, &p.z, support);
+        }
+        Ok(())
+    }
+
+    /// The outputs as they stood at the checkpoint, to be written on: `history.csv` cut back
+    /// to its rows, the frames written after it and a `summary.json` removed, `frames.pvd`
+    /// listing the frames before it.
+    pub(super) fn resume_outputs(&self, out: &Path) -> std::io::Result<(History, vtk::Collection)> {
+        let c = &self.checkpoint;
+        output::clear_after_checkpoint(out, c.counters.frame).map_err(|e| output::named(out, e))?;
+        let history = History::resume(&out.join("history.csv"), &c.history)?;
+        let path = out.join("frames.pvd");
+        let frames = match &c.frames {
+            Some(entries) => vtk::Collection::resume(path, entries.clone())?,
+            None => vtk::Collection::new(path),
+        };
+        Ok((history, frames))
+    }
+
+    /// Why the checkpoint's state does not fit `model`, if it does not: an array of another
+    /// length, or other indices for a step to follow (a file that passes the build and scene
+    /// checks has this scene's mesh, unless it was made by hand).
+    fn misfit(&self, model: &Model) -> Option<String> {
+        let (s, p) = (&self.checkpoint.state, &model.projectile);
+        let sizes = [
+            (
+                "particles",
+                s.particles.lengths(),
+                model.particles.lengths(),
+            ),
+            ("nodes", s.nodes.lengths(), p.nodes.lengths()),
+            ("elements", s.elements.lengths(), p.elements.lengths()),
+        ];
+        for (what, saved, built) in sizes {
+            if let Some(((name, n), (_, m))) = saved.iter().zip(&built).find(|(a, b)| a != b) {
+                return Some(format!(
+                    "its {what}.{name} holds {n} values, this scene's model {m}"
+                ));
+            }
+        }
+        (s.elements.nodes != p.elements.nodes
+            || s.nodes.elem_offsets != p.nodes.elem_offsets
+            || s.nodes.elem_refs != p.nodes.elem_refs)
+            .then(|| "its projectile's mesh is not the one this scene builds".into())
+    }
+
+    /// Where the run loop stood.
+    pub(super) fn counters(&self) -> Counters {
+        self.checkpoint.counters
+    }
+
+    fn refused(&self, refusal: Refusal) -> RunError {
+        RunError::Restart(Box::new(RestartError {
+            file: self.file.clone(),
+            refusal,
+        }))
+    }
+}
+
+/// The keys whose values differ between two resolved scenes, each as `key: A there, B here`
+/// (`there` the checkpoint's), the first few of them.
+fn scene_differences(there: &str, here: &str) -> Vec<String> {
+    /// `key = value  # unit` lines as (key, value).
+    fn settings(table: &str) -> Vec<(&str, &str)> {
+        table
+            .lines()
+            .filter_map(|line| line.split_once(" = "))
+            .map(|(key, rest)| (key, rest.split_once("  # ").map_or(rest, |(v, _)| v)))
+            .collect()
+    }
+    if there == here {
+        return Vec::new();
+    }
+    let (a, b) = (settings(there), settings(here));
+    let value = |table: &[(&str, &str)], key: &str| {
+        table
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map_or("unset".to_string(), |(_, v)| v.to_string())
+    };
+    let mut seen = Vec::new();
+    let mut differences = Vec::new();
+    for (key, _) in a.iter().chain(&b) {
+        if seen.contains(key) {
+            continue;
+        }
+        seen.push(key);
+        let (x, y) = (value(&a, key), value(&b, key));
+        if x != y {
+            differences.push(format!("{key}: {x} there, {y} here"));
+        }
+    }
+    const SHOWN: usize = 5;
+    if differences.len() > SHOWN {
+        let more = differences.len() - SHOWN;
+        differences.truncate(SHOWN);
+        differences.push(format!("{more} more"));
+    }
+    if differences.is_empty() {
+        // The same values, written otherwise (units): still not this build's table.
+        differences.push("the resolved tables differ in their text".into());
+    }
+    differences
+}
+
+/// A restart file refused: which, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RestartError {
+    pub file: PathBuf,
+    pub refusal: Refusal,
+}
+
+impl fmt::Display for RestartError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "restart file {} {}", self.file.display(), self.refusal)
+    }
+}
+
+/// Why a restart file is refused.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Refusal {
+    /// It could not be read (the system's reason).
+    Unreadable(String),
+    /// It ends before its header or its payload does.
+    Truncated { bytes: u64, needed: u64 },
+    /// It does not start with the magic.
+    NotACheckpoint,
+    /// It is in another version of the format.
+    Version { found: u32 },
+    /// Its payload is not what was written.
+    Checksum { stored: u32, computed: u32 },
+    /// Its payload does not parse though its checksum holds: written by hand, or a bug.
+    Malformed(String),
+    /// Another build of the solver wrote it.
+    OtherBuild { file: String, this: String },
+    /// It is of another scene: the values that differ.
+    OtherScene(Vec<String>),
+    /// Its state does not fit the model the scene builds.
+    OtherModel(String),
+    /// Its run wrote frames and this one would not (`written`), or the other way round.
+    Frames { written: bool },
+    /// The `history.csv` it continues is not in the output folder as it was.
+    History(String),
+}
+
+impl fmt::Display for Refusal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Refusal::Unreadable(why) => write!(f, "cannot be read: {why}"),
+            Refusal::Truncated { bytes, needed } => write!(
+                f,
+                "is truncated: it has {bytes} bytes, its header and payload need {needed}"
+            ),
+            Refusal::NotACheckpoint => write!(
+                f,
+                "is not a penetrate restart file (it does not start with {})",
+                String::from_utf8_lossy(&MAGIC)
+            ),
+            Refusal::Version { found } => write!(
+                f,
+                "is in restart format version {found}; this build reads version {VERSION} \
+                 only: rerun the scene from the start"
+            ),
+            Refusal::Checksum { stored, computed } => write!(
+                f,
+                "is corrupt: its checksum says {stored:08x}, its payload gives {computed:08x}"
+            ),
+            Refusal::Malformed(why) => write!(f, "is malformed: {why}"),
+            Refusal::OtherBuild { file, this } => write!(
+                f,
+                "was written by {file}, and this is {this}: a run goes on only with the build \
+                 that started it (its summary.json names one build, and another build's step \
+                 need not be the same); rerun the scene from the start, or restart with that build"
+            ),
+            Refusal::OtherScene(differences) => write!(
+                f,
+                "is of another scene ({}): restart with the case and --set values of the run \
+                 that wrote it",
+                differences.join("; ")
+            ),
+            Refusal::OtherModel(why) => {
+                write!(f, "does not fit the model this scene builds: {why}")
+            }
+            Refusal::Frames { written: true } => write!(
+                f,
+                "is of a run that writes VTK frames: restart it without --no-vtk"
+            ),
+            Refusal::Frames { written: false } => write!(
+                f,
+                "is of a run started with --no-vtk: restart it with --no-vtk"
+            ),
+            Refusal::History(why) => write!(
+                f,
+                "does not continue the history in the output folder: {why}; restart into the \
+                 folder it was written in"
+            ),
+        }
+    }
+}
+
+/// The payload being read, and how far.
+struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn new(bytes: &'a [u8]) -> Reader<'a> {
+        Reader { bytes, at: 0 }
+    }
+
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let bytes = self.take(N)?;
+        let mut out = [0; N];
+        out.copy_from_slice(bytes);
+        Ok(out)
+    }
+
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        let left = self.bytes.len() - self.at;
+        if n > left {
+            return Err(format!(
+                "it ends at byte {} of its payload, inside a field of {n} bytes",
+                self.bytes.len()
+            ));
+        }
+        let bytes = &self.bytes[self.at..self.at + n];
+        self.at += n;
+        Ok(bytes)
+    }
+
+    /// A length read, no more than the bytes left (every item takes at least one).
+    fn length(&mut self) -> Result<usize, String> {
+        let n = u64::get(self)?;
+        let left = self.bytes.len() - self.at;
+        usize::try_from(n)
+            .ok()
+            .filter(|&n| n <= left)
+            .ok_or_else(|| format!("a length of {n} is more than the {left} bytes left"))
+    }
+}
+
+/// A value as the payload holds it.
+trait Put {
+    fn put(&self, w: &mut Vec<u8>);
+}
+
+/// A value read back from the payload.
+trait Get: Sized {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String>;
+}
+
+macro_rules! number {
+    ($($t:ty),*) => {$(
+        impl Put for $t {
+            fn put(&self, w: &mut Vec<u8>) {
+                w.extend_from_slice(&self.to_le_bytes());
+            }
+        }
+        impl Get for $t {
+            fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+                Ok(<$t>::from_le_bytes(r.array()?))
+            }
+        }
+    )*};
+}
+
+number!(u8, u32, u64, f32, f64);
+
+impl Put for usize {
+    fn put(&self, w: &mut Vec<u8>) {
+        (*self as u64).put(w);
+    }
+}
+
+impl Get for usize {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+        let n = u64::get(r)?;
+        usize::try_from(n).map_err(|_| format!("a count of {n} is more than this machine holds"))
+    }
+}
+
+impl Put for str {
+    fn put(&self, w: &mut Vec<u8>) {
+        self.len().put(w);
+        w.extend_from_slice(self.as_bytes());
+    }
+}
+
+impl Get for String {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+        let n = r.length()?;
+        String::from_utf8(r.take(n)?.to_vec()).map_err(|_| "a string is not UTF-8".to_string())
+    }
+}
+
+impl Put for String {
+    fn put(&self, w: &mut Vec<u8>) {
+        self.as_str().put(w);
+    }
+}
+
+impl<T: Put> Put for [T] {
+    fn put(&self, w: &mut Vec<u8>) {
+        self.len().put(w);
+        for item in self {
+            item.put(w);
+        }
+    }
+}
+
+impl<T: Put> Put for Vec<T> {
+    fn put(&self, w: &mut Vec<u8>) {
+        self.as_slice().put(w);
+    }
+}
+
+impl<T: Get> Get for Vec<T> {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+        let n = r.length()?;
+        (0..n).map(|_| T::get(r)).collect()
+    }
+}
+
+impl<T: Put, const N: usize> Put for [T; N] {
+    fn put(&self, w: &mut Vec<u8>) {
+        for item in self {
+            item.put(w);
+        }
+    }
+}
+
+impl<T: Get + Copy + Default, const N: usize> Get for [T; N] {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+        let mut out = [T::default(); N];
+        for item in &mut out {
+            *item = T::get(r)?;
+        }
+        Ok(out)
+    }
+}
+
+impl<T: Put> Put for Option<T> {
+    fn put(&self, w: &mut Vec<u8>) {
+        match self {
+            None => 0u8.put(w),
+            Some(x) => {
+                1u8.put(w);
+                x.put(w);
+            }
+        }
+    }
+}
+
+impl<T: Get> Get for Option<T> {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+        match u8::get(r)? {
+            0 => Ok(None),
+            1 => Ok(Some(T::get(r)?)),
+            tag => Err(format!("an option's tag is {tag}, not 0 or 1")),
+        }
+    }
+}
+
+impl<T: Put + ?Sized> Put for &T {
+    fn put(&self, w: &mut Vec<u8>) {
+        (**self).put(w);
+    }
+}
+
+impl<A: Put, B: Put, C: Put> Put for (A, B, C) {
+    fn put(&self, w: &mut Vec<u8>) {
+        self.0.put(w);
+        self.1.put(w);
+        self.2.put(w);
+    }
+}
+
+impl<A: Get, B: Get, C: Get> Get for (A, B, C) {
+    fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+        Ok((A::get(r)?, B::get(r)?, C::get(r)?))
+    }
+}
+
+/// `Put` and `Get` for a struct, its fields in the order listed: every field, or the
+/// pattern does not compile.
+macro_rules! record {
+    ($ty:ident { $($field:ident),* $(,)? }) => {
+        impl Put for $ty {
+            fn put(&self, w: &mut Vec<u8>) {
+                let $ty { $($field),* } = self;
+                $($field.put(w);)*
+            }
+        }
+        impl Get for $ty {
+            fn get(r: &mut Reader<'_>) -> Result<Self, String> {
+                Ok($ty { $($field: Get::get(r)?),* })
+            }
+        }
+    };
+}
+
+/// [`record!`] for a struct of arrays, and the arrays' lengths by name.
+macro_rules! arrays {
+    ($ty:ident { $($field:ident),* $(,)? }) => {
+        record!($ty { $($field),* });
+        impl Lengths for $ty {
+            fn lengths(&self) -> Vec<(&'static str, usize)> {
+                vec![$((stringify!($field), self.$field.len())),*]
+            }
+        }
+    };
+}
+
+/// The lengths of a struct of arrays, by field name.
+trait Lengths {
+    fn lengths(&self) -> Vec<(&'static str, usize)>;
+}
+
+record!(Account {
+    initial_kinetic,
+    initial_momentum,
+    contact_dissipated,
+    wall_dissipated,
+    boundary_impulse,
+    contact_impulse,
+    nose_impulse,
+    plastic_work,
+    max_penetration,
+    slaves_inside,
+    max_residual_penetration,
+    min_dt,
+    max_dt,
+});
+
+record!(Counters {
+    frame,
+    frame_step,
+    history_step,
+    next_history,
+    next_frame,
+});
+
+record!(Mark { bytes, crc, last });
+
+record!(Row {
+    time,
+    step,
+    dt,
+    depth,
+    velocity,
+    kinetic,
+    internal,
+    contact_dissipated,
+    contact_impulse,
+    nose_impulse,
+    energy_error,
+    max_damage,
+    max_plastic_strain,
+    hits,
+    damage_area,
+    plastic_work,
+    checkerboard,
+    length,
+    radius,
+});
+
+arrays!(Particles {
+    r,
+    z,
+    vr,
+    vz,
+    ar,
+    az,
+    mass,
+    rho,
+    energy,
+    strain_energy,
+    p,
+    s_rr,
+    s_zz,
+    s_rz,
+    s_tt,
+    damage,
+    mu_max,
+    eps_p,
+    sound,
+    l_rr,
+    l_rz,
+    l_zr,
+    l_zz,
+    drho,
+    de_visc,
+    de_work,
+    mu_visc,
+    visc_switch,
+    m_tilde,
+    area,
+    hoop_weight,
+    stress_rho2,
+    art_stress,
+    fixed,
+});
+
+arrays!(Nodes {
+    r,
+    z,
+    vr,
+    vz,
+    fr,
+    fz,
+    mass,
+    on_axis,
+    elem_offsets,
+    elem_refs,
+});
+
+arrays!(Elements {
+    nodes,
+    volume0,
+    s_rr,
+    s_zz,
+    s_rz,
+    s_tt,
+    p,
+    energy,
+    eps_p,
+    temperature,
+    damage,
+    failed,
+    force,
+    dt,
+    plastic_work,
+});
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn smoke() -> Scene {
+        crate::scene::shipped_case("smoke.toml", &[])
+    }
+
+    /// The smoke model after `steps` CPU steps, and its checkpoint's bytes.
+    fn stepped(scene: &Scene, steps: usize) -> (Simulation, Vec<u8>) {
+        let mut sim = Simulation::new(scene).unwrap();
+        for _ in 0..steps {
+            sim.step().unwrap();
+        }
+        let counters = Counters {
+            frame: 3,
+            frame_step: Some(7),
+            history_step: steps as u64,
+            next_history: 1.5e-6,
+            next_frame: f64::MAX,
+        };
+        let mark = Mark {
+            bytes: 1234,
+            crc: 0xdead_beef,
+            last: Some((
+                Row {
+                    time: 1e-6,
+                    hits: 4,
+                    ..Row::default()
+                },
+                2.0,
+                -3.0,
+            )),
+        };
+        let frames = [(0.0, 0, "target_00000.vtu".to_string())];
+        let table = scene.resolved_table();
+        let m = sim.model().unwrap();
+        let bytes = Parts::of(m, &table, &counters, &mark, Some(&frames)).encode();
+        (sim, bytes)
+    }
+
+    /// What is decoded encodes to the same bytes (every field read back, in order, bit for
+    /// bit), and a model restored from it takes the same steps as the one it was written of.
+    #[test]
+    fn a_checkpoint_round_trips_and_steps_on_identically() {
+        let scene = smoke();
+        let (mut sim, bytes) = stepped(&scene, 40);
+        let checkpoint = Checkpoint::decode(&bytes).unwrap();
+        assert_eq!(checkpoint.encode(), bytes);
+        assert_eq!(checkpoint.state.step, 40);
+        assert_eq!(checkpoint.counters.frame_step, Some(7));
+        assert_eq!(checkpoint.history.last.unwrap().0.hits, 4);
+        assert_eq!(checkpoint.frames.as_ref().unwrap()[0].2, "target_00000.vtu");
+
+        let mut restart = Restart {
+            file: PathBuf::from("restart.bin"),
+            checkpoint,
+        };
+        let mut model = Model::assemble(&scene).unwrap();
+        restart.restore(&mut model).unwrap();
+        let mut restored = Simulation::on_cpu(model);
+        for _ in 0..30 {
+            sim.step().unwrap();
+            restored.step().unwrap();
+        }
+        let (a, b) = (sim.model().unwrap(), restored.model().unwrap());
+        assert_eq!(a.time.to_bits(), b.time.to_bits());
+        assert_eq!(a.dt.to_bits(), b.dt.to_bits());
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a.particles.p), bits(&b.particles.p));
+        assert_eq!(bits(&a.projectile.nodes.z), bits(&b.projectile.nodes.z));
+        assert_eq!(
+            a.account.contact_impulse.to_bits(),
+            b.account.contact_impulse.to_bits()
+        );
+    }
+
+    /// A file cut short, of another kind or version, or changed after it was written is
+    /// refused, and says which of these it is.
+    #[test]
+    fn a_damaged_file_is_refused_by_what_is_wrong() {
+        let (_, bytes) = stepped(&smoke(), 2);
+        for cut in [0, 5, 8, 13, HEADER, bytes.len() / 2, bytes.len() - 1] {
+            let refusal = Checkpoint::decode(&bytes[..cut]).unwrap_err();
+            assert!(
+                matches!(refusal, Refusal::Truncated { needed, .. } if needed as usize == bytes.len() || cut < HEADER),
+                "cut at {cut}: {refusal}"
+            );
+        }
+        let mut other = bytes.clone();
+        other[0] = b'X';
+        assert_eq!(
+            Checkpoint::decode(&other).unwrap_err(),
+            Refusal::NotACheckpoint
+        );
+        let mut other = bytes.clone();
+        other[8..12].copy_from_slice(&(VERSION + 1).to_le_bytes());
+        assert_eq!(
+            Checkpoint::decode(&other).unwrap_err(),
+            Refusal::Version { found: VERSION + 1 }
+        );
+        let mut other = bytes.clone();
+        let last = other.len() - 1;
+        other[last] ^= 1;
+        assert!(matches!(
+            Checkpoint::decode(&other).unwrap_err(),
+            Refusal::Checksum { .. }
+        ));
+        let mut other = bytes.clone();
+        other.push(0);
+        assert!(matches!(
+            Checkpoint::decode(&other).unwrap_err(),
+            Refusal::Malformed(_)
+        ));
+    }
+
+    /// A scene that differs is named by its keys and both values.
+    #[test]
+    fn scene_differences_name_the_keys() {
+        let there = "name = \"smoke\"  # \nrun.end_time = 2e-5  # s\nrun.cfl = 0.5  # \n";
+        let here = "name = \"smoke\"  # \nrun.end_time = 3e-5  # s\nrun.cfl = 0.5  # \n";
+        assert_eq!(
+            scene_differences(there, here),
+            vec!["run.end_time: 2e-5 there, 3e-5 here"]
+        );
+        assert!(scene_differences(there, there).is_empty());
+    }
+}
