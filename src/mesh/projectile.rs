@@ -12,6 +12,10 @@
 //! the tip and the spacing along the arc equals the element size. M is a straight (180°) corner
 //! of the patch, which squashes the cells near it; Winslow smoothing and a local max-min
 //! optimisation of the smallest altitude (which sets the stable time step) repair them.
+//!
+//! Longer than most files (about 820 lines) because the two layouts, the smoothing and the
+//! assembly into triangles and master segments share one block structure; its tests live in
+//! `projectile/tests.rs`.
 
 use std::collections::HashMap;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
