@@ -95,14 +95,10 @@ fn smoke_case_runs_with_finite_fields() {
         .take_while(|f| f.is_file())
         .last()
         .unwrap();
-    let frame = std::fs::read_to_string(last).unwrap();
+    let frame = penetrate::output::vtk::read_vtu(&last).unwrap();
     let field = |name: &str| -> Vec<f64> {
-        let tag = format!("Name=\"{name}\"");
-        let body = frame.split(tag.as_str()).nth(1).unwrap();
-        let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
-        body.split_whitespace()
-            .map(|v| v.parse().unwrap())
-            .collect()
+        let values = frame.point_field(name).unwrap();
+        values.iter().map(|&v| v as f64).collect()
     };
     let mass = field("mass");
     assert_eq!(mass.len(), s.particles);
@@ -1234,13 +1230,9 @@ fn a_taylor_run_does_not_depend_on_where_the_wall_is() {
             String::from_utf8_lossy(&out.stderr)
         );
         let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-        let frame = std::fs::read_to_string(dir.join("projectile_00001.vtu")).unwrap();
+        let frame = penetrate::output::vtk::read_vtu(&dir.join("projectile_00001.vtu")).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
-        // The first point's z: "r 0 z" on the line after the points' DataArray.
-        let points = frame.split("<Points>").nth(1).unwrap();
-        let first = points.lines().nth(2).unwrap();
-        let z: f64 = first.split_whitespace().nth(2).unwrap().parse().unwrap();
-        (history, z)
+        (history, frame.z[0] as f64)
     };
     let (at_zero, z0) = run("0");
     let (far, z100) = run("100");
@@ -1356,8 +1348,9 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
     assert!(listed.contains(&"projectile_00001.vtu"), "{pvd}");
     assert!(!listed.contains(&"projectile_00002.vtu"), "{pvd}");
     for file in listed {
-        let frame = std::fs::read_to_string(dir.join(file)).unwrap();
-        assert!(frame.ends_with("</VTKFile>\n"), "{file} is not whole");
+        let frame = std::fs::read(dir.join(file)).unwrap();
+        assert!(frame.ends_with(b"</VTKFile>\n"), "{file} is not whole");
+        penetrate::output::vtk::read_vtu(&dir.join(file)).unwrap();
     }
     let partial = std::fs::read_dir(&dir)
         .unwrap()

@@ -1,8 +1,10 @@
-//! Outputs of a run: `summary.json`, `history.csv`, VTK frames (`.vtu` + a `.pvd` collection),
-//! and the progress display.
+//! Outputs of a run: `summary.json`, `history.csv`, VTK frames (`.vtu` + a `.pvd` collection,
+//! [`frames`]), and the progress display; [`run_files`] and [`vtk::read_vtu`] read them back.
 
+pub mod frames;
 pub mod history;
 pub mod progress;
+pub mod run_files;
 pub mod summary;
 pub mod vtk;
 

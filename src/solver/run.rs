@@ -299,7 +299,7 @@ pub(super) fn warn_if_outputs_overfill(
         );
         let what = if vtk {
             format!(
-                "{} frames, ≈ {:.1} MiB of ASCII VTU, and {rows}",
+                "{} frames, ≈ {:.1} MiB of binary VTU, and {rows}",
                 e.frames,
                 frame_bytes / MIB
             )

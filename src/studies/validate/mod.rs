@@ -20,7 +20,6 @@ pub mod forrestal;
 mod frame;
 mod penetration;
 mod report;
-mod run_files;
 mod shell;
 mod solid;
 mod taylor;

@@ -307,7 +307,7 @@ fn resistance(
         let inputs = c.equation()?;
         let a = inputs.shank_radius;
         let nose_length = scene::ogive_nose_length(2.0 * a, inputs.crh);
-        let h = match super::run_files::history(
+        let h = match crate::output::run_files::history(
             &r.dir,
             &["time_s", "depth_m", "projectile_velocity_m_s"],
         ) {

@@ -10,8 +10,8 @@ use super::bisect::{self, Bracket};
 use super::context::{Ask, Context};
 use super::frame;
 use super::report::{or_dash, table, SectionOut};
-use super::run_files::history;
 use super::{Section, ValidateError};
+use crate::output::run_files::history;
 
 /// The shell's scene in the cases folder.
 const SHELL_FILE: &str = "shell-projectile.toml";
