@@ -1,9 +1,10 @@
 //! Outputs of a run: `summary.json`, `history.csv`, VTK frames (`.vtu` + a `.pvd` collection,
-//! written off the stepping thread by [`frames`]), and the progress display; [`run_files`] and
-//! [`vtk::read_vtu`] read them back.
+//! written off the stepping thread by [`frames`]), the progress display, and PNG plots of what
+//! a run or a study wrote ([`plot`]), read back through [`run_files`] and [`vtk::read_vtu`].
 
 pub mod frames;
 pub mod history;
+pub mod plot;
 pub mod progress;
 pub mod run_files;
 pub mod summary;

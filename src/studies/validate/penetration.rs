@@ -1,8 +1,8 @@
 //! The Forrestal et al. (1994) shots: depth against the measurements and Forrestal's equation,
 //! and the target-size check. Depth error against run time is in `convergence`.
 
+use crate::output::plot::{Chart, Mark};
 use crate::scene::{self, ProjectileShape, Scene};
-use crate::studies::plot::{Chart, Mark};
 use crate::studies::sweep::{self, RunRecord};
 
 use super::context::{Ask, Context};

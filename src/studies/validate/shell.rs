@@ -3,7 +3,7 @@
 //! behind the nose), whether and where an element of the wall fails, damage maps on both sides
 //! of the critical velocity, and the growth of the damaged area in time.
 
-use crate::studies::plot::{Chart, FieldMap, Mark};
+use crate::output::plot::{Chart, FieldMap, Mark};
 use crate::studies::sweep::RunRecord;
 
 use super::bisect::{self, Bracket};

@@ -2,7 +2,7 @@
 //! (λ = 0.2) penetration histories (Fig. 2-3), and its final plastic deformation against
 //! striking speed (Fig. 4). Both are qualitative: no accuracy target, the numbers are reported.
 
-use crate::studies::plot::{Chart, Mark};
+use crate::output::plot::{Chart, Mark};
 
 use super::context::{Ask, Context};
 use super::penetration::{study_shot, STUDY_SHOTS};
