@@ -1242,9 +1242,9 @@ fn a_taylor_run_does_not_depend_on_where_the_wall_is() {
     assert!((z100 - 100.0 - z0).abs() < 1e-5, "{z0} {z100}");
 }
 
-/// A run into a folder an earlier run wrote clears that run's summary and frames first, so
-/// that a shorter run, or one without frames, is not read together with the last one's;
-/// other files are left alone.
+/// A run into a folder an earlier run wrote clears that run's summary, frames and plots
+/// first, so that a shorter run, or one without frames, is not read together with the last
+/// one's; other files are left alone.
 #[test]
 fn a_run_clears_the_frames_an_earlier_run_left() {
     let bin = env!("CARGO_BIN_EXE_penetrate");
@@ -1276,8 +1276,11 @@ fn a_run_clears_the_frames_an_earlier_run_left() {
     // collection.
     assert!(frames() >= 11, "{}", frames());
     std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    // A picture `penetrate plot` drew of the last run goes with it.
+    std::fs::write(dir.join("damage.png"), "stale").unwrap();
     run(&["--no-vtk"]);
     assert_eq!(frames(), 0);
+    assert!(!dir.join("damage.png").exists());
     assert!(dir.join("summary.json").is_file() && dir.join("notes.txt").is_file());
     // A run refused before its first step leaves no history or summary of the last one.
     let out = Command::new(bin)

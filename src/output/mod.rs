@@ -7,6 +7,7 @@ pub mod history;
 pub mod plot;
 pub mod progress;
 pub mod run_files;
+pub mod run_plots;
 pub mod summary;
 pub mod vtk;
 
@@ -22,8 +23,8 @@ pub fn create_folder(dir: &std::path::Path) -> std::io::Result<()> {
 /// `summary.json` and `history.csv` (a run refused or killed before writing its own must not
 /// show the last one's) and its frames (`frames.pvd`, `target_NNNNN.vtu`,
 /// `projectile_NNNNN.vtu`: a shorter run, or one without frames, would otherwise sit beside the
-/// last one's), and any of these a killed run left half-written (`<name>.partial`,
-/// [`write_whole`]). Nothing else is touched.
+/// last one's), the pictures `penetrate plot` drew of it ([`run_plots`]), and any of these a
+/// killed run left half-written (`<name>.partial`, [`write_whole`]). Nothing else is touched.
 pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
     let frame = |name: &str| {
         ["target_", "projectile_"].iter().any(|prefix| {
@@ -37,7 +38,9 @@ pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
         let name = name.strip_suffix(".partial").unwrap_or(name);
-        let ours = ["summary.json", "history.csv", "frames.pvd"].contains(&name);
+        let ours = ["summary.json", "history.csv", "frames.pvd"].contains(&name)
+            || run_plots::CURVES.contains(&name)
+            || run_plots::FIELDS.contains(&name);
         if (ours || frame(name)) && entry.file_type()?.is_file() {
             std::fs::remove_file(entry.path())?;
         }

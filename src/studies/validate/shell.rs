@@ -287,6 +287,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             value_label: "damage".into(),
             triangles,
             values: [f.damage.clone(), f.damage].concat(),
+            squares: Vec::new(),
             range,
         };
         let file = format!("damage-map-{v}.png");
