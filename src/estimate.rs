@@ -113,7 +113,7 @@ pub struct Estimate {
     /// (at most one a step, to `end_time` or `run.max_steps`) and the last (unless one of
     /// those fell on the last step).
     pub frames: u64,
-    /// The ASCII VTU bytes of one frame, target and projectile.
+    /// The binary VTU bytes of one frame, target and projectile.
     pub frame_bytes: usize,
     /// Rows a run writes to `history.csv`: the first, one per `run.history_interval` reached
     /// (at most one a step, to `end_time` or `run.max_steps`) and the last (unless one of
@@ -150,13 +150,16 @@ pub const MIB: f64 = 1024.0 * 1024.0;
 /// at most 359).
 const HISTORY_BYTES_PER_ROW: usize = 400;
 
-/// ASCII VTU bytes a frame takes for each particle, node and element, a little above what the
-/// frames of a shot take once every value is in play (the 277 m/s shot at ×2 at its end: 128
-/// a particle; after 0.3 ms 18.5 kB for 157 nodes and 228 elements; the smoke case after 20
-/// µs: 133 a particle, 25.9 kB for 194 nodes and 336 elements).
-const FRAME_BYTES_PER_PARTICLE: usize = 145;
-const FRAME_BYTES_PER_NODE: usize = 45;
-const FRAME_BYTES_PER_ELEMENT: usize = 60;
+/// Binary VTU bytes a frame takes for each particle, node and element (`output::vtk`): a
+/// particle's position (3 × f32), vertex cell (connectivity and offset i32, type u8) and 10
+/// f32 fields; a node's position and 2 fields; an element's 3 corners, offset, type and 6
+/// fields.
+const FRAME_BYTES_PER_PARTICLE: usize = 12 + 9 + 10 * 4;
+const FRAME_BYTES_PER_NODE: usize = 12 + 2 * 4;
+const FRAME_BYTES_PER_ELEMENT: usize = 12 + 5 + 6 * 4;
+/// The XML headers of a frame's two files and their arrays' byte counts, a little above the
+/// smoke case's 1826 + 1617 bytes.
+const FRAME_HEADER_BYTES: usize = 4096;
 
 /// The intervals of length `interval` that reach `end` (the last may end past it): `end /
 /// interval` rounded up, but a quotient within round-off of a whole number (2e-5 / 2e-6 =
@@ -226,7 +229,8 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
         steps,
         bytes,
         frames,
-        frame_bytes: particles * FRAME_BYTES_PER_PARTICLE
+        frame_bytes: FRAME_HEADER_BYTES
+            + particles * FRAME_BYTES_PER_PARTICLE
             + m.node_r.len() * FRAME_BYTES_PER_NODE
             + m.elements.len() * FRAME_BYTES_PER_ELEMENT,
         history_rows,
@@ -257,7 +261,7 @@ mod tests {
     }
 
     /// `check`'s frame count is what a run to `end_time` writes, and its size a little above
-    /// the frames' (ASCII: the values' lengths vary); one frame a step at most, and the last
+    /// the frames'; one frame a step at most, and the last
     /// not written twice when an output interval ends on the last step (20 µs at 5 µs: 0, 5,
     /// 10, 15, 20; at 3 µs: 0, 3, …, 18 and 20).
     #[test]

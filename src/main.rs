@@ -36,6 +36,9 @@ enum Command {
     Validate(cli::ValidateArgs),
     /// Validate a scene without running it: resolved values, counts, step and memory estimate.
     Check(cli::CheckArgs),
+    /// Draw a run's history (depth, velocity, deceleration, contact force) and its final
+    /// fields (damage, pressure) as PNGs in its folder.
+    Plot(cli::PlotArgs),
 }
 
 /// Exit codes: 0 the run completed; 1 it went unstable or was stopped; 2 bad input; 3 output
@@ -54,5 +57,6 @@ fn main() -> ExitCode {
         Command::Sweep(args) => cli::sweep(args),
         Command::Validate(args) => cli::validate(args),
         Command::Check(args) => cli::check(args),
+        Command::Plot(args) => cli::plot(args),
     }
 }

@@ -95,14 +95,10 @@ fn smoke_case_runs_with_finite_fields() {
         .take_while(|f| f.is_file())
         .last()
         .unwrap();
-    let frame = std::fs::read_to_string(last).unwrap();
+    let frame = penetrate::output::vtk::read_vtu(&last).unwrap();
     let field = |name: &str| -> Vec<f64> {
-        let tag = format!("Name=\"{name}\"");
-        let body = frame.split(tag.as_str()).nth(1).unwrap();
-        let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
-        body.split_whitespace()
-            .map(|v| v.parse().unwrap())
-            .collect()
+        let values = frame.point_field(name).unwrap();
+        values.iter().map(|&v| v as f64).collect()
     };
     let mass = field("mass");
     assert_eq!(mass.len(), s.particles);
@@ -1234,13 +1230,9 @@ fn a_taylor_run_does_not_depend_on_where_the_wall_is() {
             String::from_utf8_lossy(&out.stderr)
         );
         let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-        let frame = std::fs::read_to_string(dir.join("projectile_00001.vtu")).unwrap();
+        let frame = penetrate::output::vtk::read_vtu(&dir.join("projectile_00001.vtu")).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
-        // The first point's z: "r 0 z" on the line after the points' DataArray.
-        let points = frame.split("<Points>").nth(1).unwrap();
-        let first = points.lines().nth(2).unwrap();
-        let z: f64 = first.split_whitespace().nth(2).unwrap().parse().unwrap();
-        (history, z)
+        (history, frame.z[0] as f64)
     };
     let (at_zero, z0) = run("0");
     let (far, z100) = run("100");
@@ -1250,9 +1242,9 @@ fn a_taylor_run_does_not_depend_on_where_the_wall_is() {
     assert!((z100 - 100.0 - z0).abs() < 1e-5, "{z0} {z100}");
 }
 
-/// A run into a folder an earlier run wrote clears that run's summary and frames first, so
-/// that a shorter run, or one without frames, is not read together with the last one's;
-/// other files are left alone.
+/// A run into a folder an earlier run wrote clears that run's summary, frames and plots
+/// first, so that a shorter run, or one without frames, is not read together with the last
+/// one's; other files are left alone.
 #[test]
 fn a_run_clears_the_frames_an_earlier_run_left() {
     let bin = env!("CARGO_BIN_EXE_penetrate");
@@ -1284,8 +1276,11 @@ fn a_run_clears_the_frames_an_earlier_run_left() {
     // collection.
     assert!(frames() >= 11, "{}", frames());
     std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    // A picture `penetrate plot` drew of the last run goes with it.
+    std::fs::write(dir.join("damage.png"), "stale").unwrap();
     run(&["--no-vtk"]);
     assert_eq!(frames(), 0);
+    assert!(!dir.join("damage.png").exists());
     assert!(dir.join("summary.json").is_file() && dir.join("notes.txt").is_file());
     // A run refused before its first step leaves no history or summary of the last one.
     let out = Command::new(bin)
@@ -1332,8 +1327,10 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let status = summary["status"].as_str().unwrap();
     assert!(status.starts_with("output failed at step"), "{status}");
+    // Frames are written off the stepping thread: the run learns of the refusal a step or so
+    // after it handed the frame over (the status names the frame's step and time).
     let t = summary["time_s"].as_f64().unwrap();
-    assert!((2e-6..3e-6).contains(&t), "stopped at t = {t}");
+    assert!(t >= 2e-6, "stopped at t = {t}");
     let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     assert!(
         history.ends_with('\n') && history.lines().count() > 5,
@@ -1356,8 +1353,9 @@ fn a_run_the_disk_refuses_stops_and_keeps_whole_outputs() {
     assert!(listed.contains(&"projectile_00001.vtu"), "{pvd}");
     assert!(!listed.contains(&"projectile_00002.vtu"), "{pvd}");
     for file in listed {
-        let frame = std::fs::read_to_string(dir.join(file)).unwrap();
-        assert!(frame.ends_with("</VTKFile>\n"), "{file} is not whole");
+        let frame = std::fs::read(dir.join(file)).unwrap();
+        assert!(frame.ends_with(b"</VTKFile>\n"), "{file} is not whole");
+        penetrate::output::vtk::read_vtu(&dir.join(file)).unwrap();
     }
     let partial = std::fs::read_dir(&dir)
         .unwrap()

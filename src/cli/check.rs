@@ -109,7 +109,7 @@ fn check_report(s: &Scene) -> Result<String, String> {
             );
             out += &format!("# memory ≈ {:.1} MiB\n", e.bytes as f64 / estimate::MIB);
             out += &format!(
-                "# frames: {} to the run's end (none with --no-vtk), ≈ {:.1} MiB of ASCII VTU\n",
+                "# frames: {} to the run's end (none with --no-vtk), ≈ {:.1} MiB of binary VTU\n",
                 e.frames,
                 e.frames_bytes() / estimate::MIB
             );

@@ -20,10 +20,12 @@ macro_rules! say {
 }
 
 mod check;
+mod plot;
 mod run;
 mod studies;
 
 pub use check::{check, CheckArgs};
+pub use plot::{plot, PlotArgs};
 pub use run::{adapters, run, RunArgs};
 pub use studies::{bench, check_stability, sweep, validate};
 pub use studies::{BenchArgs, StabilityArgs, SweepArgs, ValidateArgs};

@@ -1,8 +1,13 @@
-//! Outputs of a run: `summary.json`, `history.csv`, VTK frames (`.vtu` + a `.pvd` collection),
-//! and the progress display.
+//! Outputs of a run: `summary.json`, `history.csv`, VTK frames (`.vtu` + a `.pvd` collection,
+//! written off the stepping thread by [`frames`]), the progress display, and PNG plots of what
+//! a run or a study wrote ([`plot`]), read back through [`run_files`] and [`vtk::read_vtu`].
 
+pub mod frames;
 pub mod history;
+pub mod plot;
 pub mod progress;
+pub mod run_files;
+pub mod run_plots;
 pub mod summary;
 pub mod vtk;
 
@@ -23,13 +28,16 @@ const RUN_FILES: [&str; 4] = ["summary.json", "history.csv", "frames.pvd", RESTA
 /// Removes what an earlier run left in `dir` that this one may not overwrite: its
 /// `summary.json` and `history.csv` (a run refused or killed before writing its own must not
 /// show the last one's), its frames (`frames.pvd`, `target_NNNNN.vtu`, `projectile_NNNNN.vtu`:
-/// a shorter run, or one without frames, would otherwise sit beside the last one's) and its
-/// checkpoint (`restart.bin`, which continues that run's history, not this one's), and any of
-/// these a killed run left half-written (`<name>.partial`, [`write_whole`]). Nothing else is
-/// touched.
+/// a shorter run, or one without frames, would otherwise sit beside the last one's), its
+/// checkpoint (`restart.bin`, which continues that run's history, not this one's), the
+/// pictures `penetrate plot` drew of it ([`run_plots`]), and any of these a killed run left
+/// half-written (`<name>.partial`, [`write_whole`]). Nothing else is touched.
 pub fn clear_previous_run(dir: &std::path::Path) -> std::io::Result<()> {
     remove_outputs(dir, |name, _| {
-        RUN_FILES.contains(&name) || frame_number(name).is_some()
+        RUN_FILES.contains(&name)
+            || frame_number(name).is_some()
+            || run_plots::CURVES.contains(&name)
+            || run_plots::FIELDS.contains(&name)
     })
 }
 

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use super::{RestartError, MIN_STEP};
 use crate::gpu::GpuError;
+use crate::output::frames::Refused;
 
 /// Why a run stopped early or went wrong.
 #[derive(Clone, Debug, PartialEq)]
@@ -223,6 +224,17 @@ impl OutputFailure {
             reason: e.to_string(),
             when,
         }
+    }
+}
+
+impl From<Refused> for OutputFailure {
+    /// A frame the writer's thread could not write, when the frame was taken.
+    fn from(r: Refused) -> OutputFailure {
+        let when = When {
+            step: r.step,
+            time: r.time,
+        };
+        OutputFailure::new(Output::Frame(r.frame), &r.error, Some(when))
     }
 }
 

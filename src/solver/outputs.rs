@@ -1,12 +1,11 @@
 //! What a simulation writes: history rows, VTK frames and the summary.
 
-use std::path::Path;
-
 use super::{Fresh, Model, Pass, RunError, Simulation, Stepper};
 use crate::cpu;
+use crate::output::frames::{Frame, Part};
 use crate::output::history::Row;
 use crate::output::summary::{EnergySummary, Summary};
-use crate::output::vtk;
+use crate::output::vtk::Vtu;
 
 impl Model {
     pub(super) fn history_row(&self) -> Row {
@@ -34,24 +33,25 @@ impl Model {
         }
     }
 
-    /// Write one VTK frame of the target and the projectile.
-    pub fn write_frame(
-        &self,
-        dir: &Path,
-        frame: usize,
-        pvd: &mut vtk::Collection,
-    ) -> std::io::Result<()> {
-        let p = &self.particles;
+    /// VTK frame `number` of the target (when it has particles) and the projectile: owned
+    /// copies of their arrays, for the frame writer's thread.
+    pub fn frame(&self, number: usize) -> Frame {
         let world = |z: &[f32]| -> Vec<f32> { z.iter().map(|&z| self.world_z(z) as f32).collect() };
+        let fields = |fields: &[(&str, &[f32])]| -> Vec<(String, Vec<f32>)> {
+            fields
+                .iter()
+                .map(|(name, values)| (name.to_string(), values.to_vec()))
+                .collect()
+        };
+        let mut parts = Vec::with_capacity(2);
+        let p = &self.particles;
         if !p.is_empty() {
-            let name = format!("target_{frame:05}.vtu");
             let speed: Vec<f32> = (0..p.len()).map(|i| p.vr[i].hypot(p.vz[i])).collect();
-            vtk::write_vtu(
-                &dir.join(&name),
-                &p.r,
-                &world(&p.z),
-                None,
-                &[
+            let grid = Vtu {
+                r: p.r.clone(),
+                z: world(&p.z),
+                triangles: None,
+                point_data: fields(&[
                     ("pressure", &p.p),
                     ("density", &p.rho),
                     ("damage", &p.damage),
@@ -62,34 +62,46 @@ impl Model {
                     ("energy", &p.energy),
                     ("strain_energy", &p.strain_energy),
                     ("mass", &p.mass),
-                ],
-                &[],
-            )?;
-            pvd.add(self.time, 0, &name)?;
+                ]),
+                cell_data: Vec::new(),
+            };
+            parts.push(Part {
+                file: format!("target_{number:05}.vtu"),
+                index: 0,
+                grid,
+            });
         }
         let n = &self.projectile.nodes;
         let e = &self.projectile.elements;
-        let name = format!("projectile_{frame:05}.vtu");
         let seq: Vec<f32> = (0..e.len())
             .map(|k| cpu::deviator::von_mises(&[e.s_rr[k], e.s_zz[k], e.s_rz[k], e.s_tt[k]]))
             .collect();
         let failed: Vec<f32> = e.failed.iter().map(|&f| f as f32).collect();
-        vtk::write_vtu(
-            &dir.join(&name),
-            &n.r,
-            &world(&n.z),
-            Some(&e.nodes),
-            &[("v_r", &n.vr), ("v_z", &n.vz)],
-            &[
+        let grid = Vtu {
+            r: n.r.clone(),
+            z: world(&n.z),
+            triangles: Some(e.nodes.clone()),
+            point_data: fields(&[("v_r", &n.vr), ("v_z", &n.vz)]),
+            cell_data: fields(&[
                 ("damage", &e.damage),
                 ("failed", &failed),
                 ("plastic_strain", &e.eps_p),
                 ("pressure", &e.p),
                 ("von_mises", &seq),
                 ("temperature", &e.temperature),
-            ],
-        )?;
-        pvd.add(self.time, 1, &name)
+            ]),
+        };
+        parts.push(Part {
+            file: format!("projectile_{number:05}.vtu"),
+            index: 1,
+            grid,
+        });
+        Frame {
+            number,
+            step: self.step,
+            time: self.time,
+            parts,
+        }
     }
 
     /// World z of a model position ([`Scene::origin_z`]).
@@ -182,15 +194,9 @@ impl Simulation {
         Ok(self.current(Fresh::History)?.history_row())
     }
 
-    /// Write one VTK frame, the state brought up to date first: a read-back that fails is the
-    /// outer error, a write the inner one.
-    pub(super) fn write_frame(
-        &mut self,
-        dir: &Path,
-        frame: usize,
-        pvd: &mut vtk::Collection,
-    ) -> Result<std::io::Result<()>, RunError> {
-        Ok(self.current(Fresh::Full)?.write_frame(dir, frame, pvd))
+    /// VTK frame `number` of the state brought up to date first.
+    pub(super) fn frame(&mut self, number: usize) -> Result<Frame, RunError> {
+        Ok(self.current(Fresh::Full)?.frame(number))
     }
 
     /// The run's summary, the host's copy of the state brought up to date first; where that

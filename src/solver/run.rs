@@ -9,6 +9,7 @@ use super::checkpoint::{self, Counters, Restart};
 use super::{Kept, Model, Output, OutputError, OutputFailure, RunError, Simulation};
 use crate::mesh;
 use crate::output;
+use crate::output::frames::FrameWriter;
 use crate::output::history::History;
 use crate::output::progress::Progress;
 use crate::output::summary::Summary;
@@ -122,7 +123,9 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
     // The step of the last frame written: the last frame is not written twice.
     let mut frame_step = None;
     if opts.vtk && restart.is_none() {
-        sim.write_frame(&opts.out, frame, &mut pvd)?
+        // Written here: a disk that refuses the first frame stops the run before it steps.
+        sim.frame(frame)?
+            .write(&opts.out, &mut pvd)
             .map_err(early(Output::Frame(frame)))?;
         frame += 1;
         frame_step = Some(sim.steps());
@@ -132,6 +135,8 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
             .write(&sim.history_row()?)
             .map_err(early(Output::History))?;
     }
+    // The later frames are written by a thread of their own while the run steps on.
+    let mut frames = opts.vtk.then(|| FrameWriter::spawn(opts.out.clone(), pvd));
     // The step of the last row written: the last row is not written twice.
     let mut history_step = sim.steps();
     // Set once the disk refused an output: the run stops there.
@@ -203,17 +208,22 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 break (e.to_string(), String::new(), false);
             }
         }
-        if frame_due {
-            let written = match sim.write_frame(&opts.out, frame, &mut pvd) {
-                Ok(written) => written,
+        // A due frame is handed over; a frame handed over earlier and refused stops the run.
+        let written = match frames.as_mut() {
+            Some(frames) if frame_due => match sim.frame(frame) {
+                Ok(taken) => frames.send(taken),
                 Err(e) => break (e.to_string(), String::new(), false),
-            };
-            if let Err(e) = written {
-                let failure = OutputFailure::new(Output::Frame(frame), &e, Some(sim.model.when()));
-                let status = failure.to_string();
-                refused = Some(failure);
-                break (status, String::new(), false);
-            }
+            },
+            Some(frames) => frames.check(),
+            None => Ok(()),
+        };
+        if let Err(r) = written {
+            let failure = OutputFailure::from(r);
+            let status = failure.to_string();
+            refused = Some(failure);
+            break (status, String::new(), false);
+        }
+        if frame_due {
             frame += 1;
             frame_step = Some(sim.steps());
             next_frame += scene.run.output_interval;
@@ -226,8 +236,19 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 next_history,
                 next_frame,
             };
-            let frames = opts.vtk.then_some(&pvd);
-            match checkpoint::save(&mut sim, &opts.out, &mut history, frames, counters) {
+            // The frames it counts are on disk and listed before the checkpoint says so.
+            let pvd = match frames.take().map(FrameWriter::drain).transpose() {
+                Ok(pvd) => pvd,
+                Err(e) => {
+                    let failure = OutputFailure::from(e);
+                    let status = failure.to_string();
+                    refused = Some(failure);
+                    break (status, String::new(), false);
+                }
+            };
+            let saved = checkpoint::save(&mut sim, &opts.out, &mut history, pvd.as_ref(), counters);
+            frames = pvd.map(|pvd| FrameWriter::spawn(opts.out.clone(), pvd));
+            match saved {
                 Ok(Ok(())) => {}
                 Ok(Err((what, e))) => {
                     let failure = OutputFailure::new(what, &e, Some(sim.model.when()));
@@ -259,23 +280,34 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         let mut last = Ok(());
         if history_step != step {
             match sim.history_row() {
-                Ok(row) => last = history.write(&row).map_err(|e| (Output::History, e)),
+                Ok(row) => last = history.write(&row),
                 Err(e) => status = format!("{status}; then {e}"),
             }
         }
-        last = last.and_then(|()| history.flush().map_err(|e| (Output::History, e)));
-        if last.is_ok() && opts.vtk && frame_step != Some(step) {
-            match sim.write_frame(&opts.out, frame, &mut pvd) {
-                Ok(written) => last = written.map_err(|e| (Output::Frame(frame), e)),
-                Err(e) => status = format!("{status}; then {e}"),
+        let when = Some(sim.model.when());
+        let mut last = last
+            .and_then(|()| history.flush())
+            .map_err(|e| OutputFailure::new(Output::History, &e, when));
+        if let Some(frames) = frames.as_mut() {
+            if last.is_ok() && frame_step != Some(step) {
+                match sim.frame(frame) {
+                    Ok(taken) => last = frames.send(taken).map_err(OutputFailure::from),
+                    Err(e) => status = format!("{status}; then {e}"),
+                }
             }
         }
-        if let Err((what, e)) = last {
-            let failure = OutputFailure::new(what, &e, Some(sim.model.when()));
+        // Every frame handed over written, or the first the disk refused.
+        if let Some(frames) = frames.take() {
+            let finished = frames.finish().map_err(OutputFailure::from);
+            last = last.and(finished);
+        }
+        if let Err(failure) = last {
             status = format!("{status}; then {failure}");
             refused = Some(failure);
         }
     }
+    // After a refusal too, the frames handed over are written before the summary.
+    drop(frames);
     let summary = sim.summary(&status, &reason, started.elapsed().as_secs_f64());
     let saved = write_summary(&opts.out, &summary);
     if let Some(failure) = refused {
@@ -369,7 +401,7 @@ pub(super) fn warn_if_outputs_overfill(
         );
         let what = if vtk {
             format!(
-                "{} frames, ≈ {:.1} MiB of ASCII VTU, and {rows}",
+                "{} frames, ≈ {:.1} MiB of binary VTU, and {rows}",
                 e.frames,
                 frame_bytes / MIB
             )

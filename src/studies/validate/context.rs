@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::output::plot::Chart;
 use crate::scene::{self, Backend, Scene};
-use crate::studies::plot::Chart;
 use crate::studies::sweep::{self, RunRecord, RunSettings, RunSpec};
 
 use super::{Options, Section, Settings, ValidateError};

@@ -1,8 +1,8 @@
 //! Depth error against run time: the study shots at four resolutions on each backend, and the
 //! round-off ensemble that sizes the CPU/GPU difference of single runs.
 
+use crate::output::plot::{Chart, Mark};
 use crate::scene::Backend;
-use crate::studies::plot::{Chart, Mark};
 use crate::studies::sweep::{self, RunRecord};
 
 use super::context::{Ask, Context};

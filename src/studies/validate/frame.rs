@@ -1,8 +1,10 @@
 //! The projectile's last VTK frame of a finished run (`projectile_<n>.vtu`, written by
-//! `Simulation::write_frame`), read back for the damage maps: `solver::run` keeps its
+//! `solver::run`), read back for the damage maps: `solver::run` keeps its
 //! `Simulation` to itself, and the last frame is its final state as written.
 
 use std::path::Path;
+
+use crate::output::vtk;
 
 /// The projectile mesh at the end of a run, with each element's damage.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,73 +25,28 @@ pub fn last_projectile_frame(dir: &Path) -> Result<Frame, String> {
         .max()
         .ok_or_else(|| format!("{}: no projectile frame (projectile_*.vtu)", dir.display()))?;
     let path = dir.join(&last);
-    let text = super::run_files::read_run_file(&path)?;
-    parse(&text).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Reads the points, the triangles and the `damage` cell field of a frame.
-fn parse(text: &str) -> Result<Frame, String> {
-    let points = numbers(array(text, "<Points>", "<DataArray")?)?;
-    if points.len() % 3 != 0 {
-        return Err("the point coordinates do not come in threes".into());
-    }
-    let r: Vec<f64> = points.chunks(3).map(|p| p[0]).collect();
-    let z: Vec<f64> = points.chunks(3).map(|p| p[2]).collect();
-    let connectivity = numbers(array(text, "<Cells>", "Name=\"connectivity\"")?)?;
-    if connectivity.len() % 3 != 0 {
-        return Err("the cells are not all triangles".into());
-    }
-    let index = |x: f64| {
-        let k = x as usize;
-        (x >= 0.0 && x.fract() == 0.0 && k < r.len())
-            .then_some(k)
-            .ok_or_else(|| format!("connectivity entry {x} is not a point index"))
-    };
-    let triangles: Vec<[usize; 3]> = connectivity
-        .chunks_exact(3)
-        .map(|c| Ok([index(c[0])?, index(c[1])?, index(c[2])?]))
-        .collect::<Result<_, String>>()?;
-    let damage = numbers(array(text, "<CellData>", "Name=\"damage\"")?)?;
-    if damage.len() != triangles.len() {
-        return Err(format!(
-            "{} damage values for {} triangles",
-            damage.len(),
-            triangles.len()
-        ));
-    }
+    let vtu = vtk::read_vtu(&path)?;
+    let fail = |why: &str| format!("{}: {why}", path.display());
+    let triangles = vtu.triangles.as_ref().ok_or_else(|| fail("no triangles"))?;
+    let damage = vtu
+        .cell_field("damage")
+        .ok_or_else(|| fail("no damage cell field"))?;
+    let wide = |v: &[f32]| v.iter().map(|&x| x as f64).collect();
     Ok(Frame {
-        r,
-        z,
-        triangles,
-        damage,
+        r: wide(&vtu.r),
+        z: wide(&vtu.z),
+        triangles: triangles.iter().map(|t| t.map(|k| k as usize)).collect(),
+        damage: wide(damage),
     })
-}
-
-/// The text of the first `DataArray` at `marker` after `section`.
-fn array<'a>(text: &'a str, section: &str, marker: &str) -> Result<&'a str, String> {
-    let missing = || format!("no {marker} in {section}");
-    let from = text.find(section).ok_or_else(missing)?;
-    let at = from + text[from..].find(marker).ok_or_else(missing)?;
-    let open = at + text[at..].find('>').ok_or_else(missing)? + 1;
-    let close = open + text[open..].find("</DataArray>").ok_or_else(missing)?;
-    Ok(&text[open..close])
-}
-
-fn numbers(text: &str) -> Result<Vec<f64>, String> {
-    text.split_whitespace()
-        .map(|w| {
-            w.parse::<f64>()
-                .map_err(|_| format!("`{w}` is not a number"))
-        })
-        .collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::vtk;
+    use crate::output::vtk::Vtu;
 
-    /// What `vtk::write_vtu` writes for a projectile comes back.
+    /// What `vtk::write_vtu` writes for a projectile comes back; a frame that is not a file is
+    /// named.
     #[test]
     fn a_written_frame_reads_back() {
         let dir = std::env::temp_dir().join(format!("penetrate-frame-{}", std::process::id()));
@@ -97,21 +54,30 @@ mod tests {
         let (r, z) = (vec![0.0f32, 1.0, 0.0, 1.0], vec![0.0f32, 0.0, 1.0, 1.5]);
         let tri = [[0u32, 1, 2], [1, 3, 2]];
         for (n, damage) in [(0, [0.0f32, 0.0]), (1, [0.25, 1.0])] {
-            vtk::write_vtu(
-                &dir.join(format!("projectile_{n:05}.vtu")),
-                &r,
-                &z,
-                Some(&tri),
-                &[("v_r", &[0.0; 4])],
-                &[("plastic_strain", &[0.5, 0.5]), ("damage", &damage)],
-            )
-            .unwrap();
+            let grid = Vtu {
+                r: r.clone(),
+                z: z.clone(),
+                triangles: Some(tri.to_vec()),
+                point_data: vec![("v_r".into(), vec![0.0; 4])],
+                cell_data: vec![
+                    ("plastic_strain".into(), vec![0.5, 0.5]),
+                    ("damage".into(), damage.to_vec()),
+                ],
+            };
+            vtk::write_vtu(&dir.join(format!("projectile_{n:05}.vtu")), &grid).unwrap();
         }
         let f = last_projectile_frame(&dir).unwrap();
         assert_eq!(f.r, vec![0.0, 1.0, 0.0, 1.0]);
         assert_eq!(f.z, vec![0.0, 0.0, 1.0, 1.5]);
         assert_eq!(f.triangles, vec![[0, 1, 2], [1, 3, 2]]);
         assert_eq!(f.damage, vec![0.25, 1.0]);
+        let vtu = dir.join("projectile_00007.vtu");
+        std::os::unix::fs::symlink("/dev/zero", &vtu).unwrap();
+        let e = last_projectile_frame(&dir).unwrap_err();
+        assert!(
+            e.contains("projectile_00007.vtu: not a regular file"),
+            "{e}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
         assert!(last_projectile_frame(&dir).is_err());
     }

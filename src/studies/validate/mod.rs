@@ -1,6 +1,7 @@
 //! `penetrate validate`: the shipped validation cases and the paper's studies, run in process
-//! through [`super::sweep`], written up in `DIR/report.md` with PNG plots ([`super::plot`]) and
-//! each section's raw data as CSV, and summed up in `DIR/summary.md`, one table of the checks.
+//! through [`super::sweep`], written up in `DIR/report.md` with PNG plots
+//! ([`crate::output::plot`]) and each section's raw data as CSV, and summed up in
+//! `DIR/summary.md`, one table of the checks.
 //!
 //! Sections ([`Section`]): Taylor bars at three element sizes; the Forrestal et al. (1994) shots
 //! against the measurements and Forrestal's equation; the target-size check; depth error
@@ -20,7 +21,6 @@ pub mod forrestal;
 mod frame;
 mod penetration;
 mod report;
-mod run_files;
 mod shell;
 mod solid;
 mod taylor;

@@ -1,8 +1,8 @@
 //! The Forrestal et al. (1994) shots: depth against the measurements and Forrestal's equation,
 //! and the target-size check. Depth error against run time is in `convergence`.
 
+use crate::output::plot::{Chart, Mark};
 use crate::scene::{self, ProjectileShape, Scene};
-use crate::studies::plot::{Chart, Mark};
 use crate::studies::sweep::{self, RunRecord};
 
 use super::context::{Ask, Context};
@@ -307,7 +307,7 @@ fn resistance(
         let inputs = c.equation()?;
         let a = inputs.shank_radius;
         let nose_length = scene::ogive_nose_length(2.0 * a, inputs.crh);
-        let h = match super::run_files::history(
+        let h = match crate::output::run_files::history(
             &r.dir,
             &["time_s", "depth_m", "projectile_velocity_m_s"],
         ) {

@@ -3,15 +3,15 @@
 //! behind the nose), whether and where an element of the wall fails, damage maps on both sides
 //! of the critical velocity, and the growth of the damaged area in time.
 
-use crate::studies::plot::{Chart, FieldMap, Mark};
+use crate::output::plot::{Chart, FieldMap, Mark};
 use crate::studies::sweep::RunRecord;
 
 use super::bisect::{self, Bracket};
 use super::context::{Ask, Context};
 use super::frame;
 use super::report::{or_dash, table, SectionOut};
-use super::run_files::history;
 use super::{Section, ValidateError};
+use crate::output::run_files::history;
 
 /// The shell's scene in the cases folder.
 const SHELL_FILE: &str = "shell-projectile.toml";
@@ -287,6 +287,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             value_label: "damage".into(),
             triangles,
             values: [f.damage.clone(), f.damage].concat(),
+            squares: Vec::new(),
             range,
         };
         let file = format!("damage-map-{v}.png");

@@ -2,13 +2,13 @@
 //! (λ = 0.2) penetration histories (Fig. 2-3), and its final plastic deformation against
 //! striking speed (Fig. 4). Both are qualitative: no accuracy target, the numbers are reported.
 
-use crate::studies::plot::{Chart, Mark};
+use crate::output::plot::{Chart, Mark};
 
 use super::context::{Ask, Context};
 use super::penetration::{study_shot, STUDY_SHOTS};
 use super::report::{or_dash, pct, table, SectionOut};
-use super::run_files::history;
 use super::{Section, ValidateError};
+use crate::output::run_files::history;
 
 /// λ of the rigid limit and the paper's elastic-plastic projectile (physics.md §4).
 const LAMBDAS: [f64; 2] = [0.0, 0.2];

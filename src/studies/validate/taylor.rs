@@ -1,7 +1,7 @@
 //! Taylor bars (`taylor.csv`): final length and mushroom diameter against the measurement at
 //! three element sizes.
 
-use crate::studies::plot::{Chart, Mark};
+use crate::output::plot::{Chart, Mark};
 use crate::studies::sweep;
 
 use super::context::{Ask, Context};

@@ -1,5 +1,6 @@
-//! PNG plots for the validation report: series on linear or log axes ([`Chart`]) and a scalar
-//! field on triangles ([`FieldMap`], e.g. the damage of each projectile element in the r–z plane).
+//! PNG plots for the validation report and `penetrate plot`: series on linear or log axes
+//! ([`Chart`]) and a scalar field on triangles and squares ([`FieldMap`], e.g. the damage of
+//! each projectile element and each target particle in the r–z plane).
 //!
 //! Dependency-light on purpose: a plain RGB canvas, the `png` encoder and the public-domain
 //! `font8x8` glyphs, so a report renders wherever the solver builds (no font files, no system
@@ -234,8 +235,18 @@ impl Chart {
     }
 }
 
-/// A scalar field on triangles in a plane (e.g. the damage of each projectile element in the
-/// r–z plane), coloured by value.
+/// A square of a [`FieldMap`] (an SPH particle's share of the plane), coloured by its value.
+#[derive(Clone, Copy, Debug)]
+pub struct Square {
+    pub centre: [f64; 2],
+    /// In the axes' length unit; drawn at least 1 px wide.
+    pub side: f64,
+    /// A non-finite value is drawn grey.
+    pub value: f64,
+}
+
+/// A scalar field on triangles and squares in a plane (e.g. the damage of each projectile
+/// element and each target particle in the r–z plane), coloured by value.
 pub struct FieldMap {
     /// Text above the map.
     pub title: String,
@@ -249,6 +260,8 @@ pub struct FieldMap {
     pub triangles: Vec<[[f64; 2]; 3]>,
     /// One value per triangle; a missing or non-finite value is drawn grey.
     pub values: Vec<f64>,
+    /// Squares, drawn under the triangles.
+    pub squares: Vec<Square>,
     /// Colour scale limits (value_min, value_max); values are clamped into it.
     pub range: (f64, f64),
 }
@@ -256,7 +269,7 @@ pub struct FieldMap {
 impl FieldMap {
     /// Renders the map to an RGB PNG 800 px wide with equal scales on both axes and a colour
     /// bar, as tall as the map needs (at most 560 px; a slender map leaves no blank band);
-    /// "no data" when no triangle has finite corners.
+    /// "no data" when no triangle or square has finite corners.
     pub fn write_png(&self, path: &Path) -> io::Result<()> {
         self.render().write_png(path)
     }
@@ -265,12 +278,22 @@ impl FieldMap {
         [short(self.range.0), short(self.range.1)]
     }
 
-    /// Axes covering every finite triangle, scaled so that a unit of x is as long as a unit of
-    /// y, leaving room on the right for the colour bar; None without a finite triangle.
+    /// Axes covering every finite triangle and square, scaled so that a unit of x is as long
+    /// as a unit of y, leaving room on the right for the colour bar; None without one.
     fn frame(&self) -> Option<Frame> {
-        let finite = |t: &&[[f64; 2]; 3]| t.iter().flatten().all(|v| v.is_finite());
-        let corners = || self.triangles.iter().filter(finite).flatten();
-        let along = |k: usize| corners().filter_map(move |c| Scale::Linear.coord(c[k]));
+        let finite = |t: &[[f64; 2]; 3]| t.iter().flatten().all(|v| v.is_finite());
+        let squares = self.squares.iter().map(|s| {
+            let h = 0.5 * s.side;
+            let [x, y] = s.centre;
+            [[x - h, y - h], [x + h, y + h], [x + h, y + h]]
+        });
+        let shapes = self.triangles.iter().copied().chain(squares);
+        let corners: Vec<[f64; 2]> = shapes.filter(finite).flatten().collect();
+        let along = |k: usize| {
+            corners
+                .iter()
+                .filter_map(move |c| Scale::Linear.coord(c[k]))
+        };
         let x = Axis::covering(Scale::Linear, along(0))?;
         let y = Axis::covering(Scale::Linear, along(1))?;
         let left = box_left(&y);
@@ -307,6 +330,12 @@ impl FieldMap {
         let mut canvas = Canvas::with_height(height);
         canvas.title(&self.title);
         frame.draw_axes(&mut canvas, false, &self.x_label, &self.y_label);
+        for square in &self.squares {
+            let h = 0.5 * square.side;
+            let [x, y] = square.centre;
+            let corners = [frame.pixel((x - h, y - h)), frame.pixel((x + h, y + h))];
+            canvas.rectangle(corners, edges, self.colour(Some(square.value)));
+        }
         for (i, triangle) in self.triangles.iter().enumerate() {
             let corners = triangle.map(|[x, y]| frame.pixel((x, y)));
             canvas.triangle(corners, edges, self.colour(self.values.get(i).copied()));
@@ -460,11 +489,29 @@ mod tests {
                 [[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]],
             ],
             values: vec![nan],
+            squares: vec![
+                Square {
+                    centre: [nan, 0.0],
+                    side: 1.0,
+                    value: 0.5,
+                },
+                Square {
+                    centre: [0.0, 0.0],
+                    side: inf,
+                    value: nan,
+                },
+                Square {
+                    centre: [max, -max],
+                    side: max,
+                    value: 0.5,
+                },
+            ],
             range: (nan, inf),
         };
         map.write_png(&dir.join("map.png")).expect("write map");
         let empty = FieldMap {
             triangles: Vec::new(),
+            squares: Vec::new(),
             ..map
         };
         empty
@@ -486,6 +533,11 @@ mod tests {
                 [[1.0, 0.0], [1.0, 2.0], [0.0, 2.0]],
             ],
             values: vec![0.0, 1.0],
+            squares: vec![Square {
+                centre: [1.5, 1.0],
+                side: 0.5,
+                value: 0.5,
+            }],
             range: (0.0, 1.0),
         };
         let path = dir.join("map.png");
@@ -504,12 +556,16 @@ mod tests {
             let at = (px.floor() as i64, py.floor() as i64);
             assert_eq!(pixel(&rgb, at), viridis(value), "value {value}");
         }
+        let (px, py) = frame.pixel((1.5, 1.0));
+        let at = (px.floor() as i64, py.floor() as i64);
+        assert_eq!(pixel(&rgb, at), viridis(0.5), "the square");
 
         // A slender map (10:1) gets a canvas only as tall as it and its colour bar need, with
         // the x axis's label still on it.
         let slender = FieldMap {
             triangles: vec![[[0.0, 0.0], [10.0, 0.0], [0.0, 1.0]]],
             values: vec![0.5],
+            squares: Vec::new(),
             ..map
         };
         let path = dir.join("slender.png");

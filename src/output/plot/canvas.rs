@@ -149,6 +149,28 @@ impl Canvas {
         }
     }
 
+    /// Fills the pixels inside `clip` between two opposite corners (px), at least one pixel.
+    pub(super) fn rectangle(&mut self, [a, b]: [(f64, f64); 2], clip: Edges, colour: Rgb) {
+        let span = |p: f64, q: f64, lo: i64, hi: i64| {
+            let (p, q) = (p.min(q), p.max(q));
+            if !(p.is_finite() && q.is_finite()) {
+                return (1, 0);
+            }
+            let first = (p.round() as i64).max(lo);
+            (
+                first,
+                (q.round() as i64).saturating_sub(1).max(first).min(hi),
+            )
+        };
+        let (x0, x1) = span(a.0, b.0, clip.0, clip.2);
+        let (y0, y1) = span(a.1, b.1, clip.1, clip.3);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                self.set(x, y, colour);
+            }
+        }
+    }
+
     /// Text with its top-left corner at (x, y), glyphs scaled by `scale`.
     pub(super) fn text(&mut self, x: i64, y: i64, text: &str, scale: i64, colour: Rgb) {
         for (dx, dy) in ink(text) {

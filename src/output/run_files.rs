@@ -1,19 +1,19 @@
-//! Files a run wrote, read back for the report: whole, capped in size, from regular files of
-//! UTF-8 text only.
+//! Files a run wrote, read back (by `validate`'s report and `penetrate plot`): whole, capped in
+//! size, from regular files only.
 
 use std::path::Path;
 
 use crate::scene;
 
-/// The most `validate` reads of one file a run wrote (`history.csv`, a projectile frame). A
-/// shipped case writes about 500 history rows (0.2 MB) and frames of a few MB; the limit is far
-/// above both, and keeps a file that never ends (a run folder's file replaced by a link to
-/// /dev/zero, say) from being read until memory runs out.
+/// The most read of one file a run wrote (`history.csv`, a frame). A shipped case writes about
+/// 500 history rows (0.2 MB) and binary frames of about 60 bytes a particle (a few MB); the
+/// limit is far above both, and keeps a file that never ends (a run folder's file replaced by
+/// a link to /dev/zero, say) from being read until memory runs out.
 const RUN_FILE_LIMIT: u64 = 1 << 30;
 
-/// A text file a run wrote, read whole: a regular file of at most [`RUN_FILE_LIMIT`] bytes of
-/// UTF-8, or an error naming the path and what is wrong with it.
-pub(super) fn read_run_file(path: &Path) -> Result<String, String> {
+/// A file a run wrote, read whole: a regular file of at most [`RUN_FILE_LIMIT`] bytes, or an
+/// error naming the path and what is wrong with it.
+pub fn read_run_file(path: &Path) -> Result<Vec<u8>, String> {
     let fail = |why: String| format!("{}: {why}", path.display());
     let meta = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
     let too_large = || {
@@ -29,22 +29,22 @@ pub(super) fn read_run_file(path: &Path) -> Result<String, String> {
         return Err(too_large());
     }
     // Capped again while reading: the file may grow after the look.
-    let bytes = scene::read_capped(path, RUN_FILE_LIMIT)
+    scene::read_capped(path, RUN_FILE_LIMIT)
         .map_err(|e| fail(e.to_string()))?
-        .ok_or_else(too_large)?;
-    String::from_utf8(bytes).map_err(|_| fail("not UTF-8 text".into()))
+        .ok_or_else(too_large)
 }
 
-/// Columns of a run's `history.csv`, by header name.
-pub(super) fn history(dir: &Path, columns: &[&str]) -> Result<Vec<Vec<f64>>, String> {
+/// Columns of a run's `history.csv` (in `dir`), by header name.
+pub fn history(dir: &Path, columns: &[&str]) -> Result<Vec<Vec<f64>>, String> {
     let path = dir.join("history.csv");
-    let text = read_run_file(&path)?;
-    crate::output::history::read_columns(&path, text.as_bytes(), columns)
+    let bytes = read_run_file(&path)?;
+    let text =
+        String::from_utf8(bytes).map_err(|_| format!("{}: not UTF-8 text", path.display()))?;
+    super::history::read_columns(&path, text.as_bytes(), columns)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::frame;
     use super::*;
 
     /// A run's file that never ends, is too large or is not text is refused with its path
@@ -91,13 +91,6 @@ mod tests {
         std::fs::write(&csv, "depth_m\n0\n").unwrap();
         refused("no column time_s");
 
-        let vtu = dir.join("projectile_00007.vtu");
-        std::os::unix::fs::symlink("/dev/zero", &vtu).unwrap();
-        let e = frame::last_projectile_frame(&dir).unwrap_err();
-        assert!(
-            e.contains("projectile_00007.vtu: not a regular file"),
-            "{e}"
-        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
