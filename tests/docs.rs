@@ -13,13 +13,6 @@ fn root() -> &'static Path {
 /// The README's length limit: a page a user reads, not a notebook (issue 56).
 const README_MAX_LINES: usize = 250;
 
-/// Files that another change generates and that a page may link to before they land. A link to
-/// one of these is accepted while it is missing; once it exists it is checked as any other.
-const GENERATED_ELSEWHERE: [&str; 1] = [
-    // `penetrate plot` on a real Forrestal run.
-    "docs/images/forrestal-277.png",
-];
-
 /// The Markdown pages whose links are checked.
 fn pages() -> Vec<PathBuf> {
     let mut pages: Vec<PathBuf> = ["README.md", "CHANGELOG.md", "data/README.md"]
@@ -129,13 +122,7 @@ fn broken_links(page: &Path, text: &str) -> Vec<String> {
                 dir.join(path)
             };
             if !file.exists() {
-                let pending = file
-                    .strip_prefix(root())
-                    .ok()
-                    .is_some_and(|p| GENERATED_ELSEWHERE.iter().any(|g| Path::new(g) == p));
-                if !pending {
-                    broken.push(format!("{name}:{n}: {target}: no such file"));
-                }
+                broken.push(format!("{name}:{n}: {target}: no such file"));
                 continue;
             }
             if let Some(anchor) = anchor {
