@@ -195,16 +195,23 @@ fn field_maps(t: f64, grids: &[Vtu]) -> [FieldMap; 2] {
     };
     let damage = map("Damage", "damage", "damage", 1.0);
     let mut pressure = map("Pressure", "pressure (MPa)", "pressure", 1e-6);
-    let values = pressure
-        .values
-        .iter()
-        .chain(pressure.squares.iter().map(|s| &s.value));
-    let finite = values.copied().filter(|v| v.is_finite());
-    let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
-    if lo <= hi {
-        pressure.range = (lo, hi);
+    let span = |values: &mut dyn Iterator<Item = f64>| {
+        let (lo, hi) = values
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        (lo <= hi).then_some((lo, hi))
+    };
+    // The concrete's range where there is concrete: the steel's GPa would leave the target one
+    // colour. The projectile's pressures beyond it take the scale's end colours.
+    let concrete = span(&mut pressure.squares.iter().map(|s| s.value));
+    let all = span(&mut pressure.values.iter().copied());
+    if let Some(range) = concrete.or(all) {
+        pressure.range = range;
+        if concrete.is_some() && !pressure.triangles.is_empty() {
+            pressure.value_label = "pressure (MPa), the concrete's range".into();
+        }
     }
     [damage, pressure]
 }
@@ -258,6 +265,31 @@ mod tests {
         assert_eq!(a[0].0, 1.0);
         assert!((a[0].1 - 1000.0).abs() < 1e-9, "{a:?}");
         assert!((a[1].1 - 1000.0).abs() < 1e-9, "{a:?}");
+    }
+
+    /// The pressure's colours span the concrete's range, not the steel's GPa; a frame of the
+    /// projectile alone spans its own.
+    #[test]
+    fn the_pressure_scale_is_the_concrete_s() {
+        let particles = Vtu {
+            r: vec![0.01, 0.02],
+            z: vec![0.0, 0.0],
+            point_data: vec![("pressure".into(), vec![-1.0e6, 40.0e6])],
+            ..Vtu::default()
+        };
+        let projectile = Vtu {
+            r: vec![0.0, 0.01, 0.0],
+            z: vec![0.0, 0.0, 0.01],
+            triangles: Some(vec![[0, 1, 2]]),
+            cell_data: vec![("pressure".into(), vec![2.0e9])],
+            ..Vtu::default()
+        };
+        let [_, both] = field_maps(0.0, &[particles, projectile.clone()]);
+        assert_eq!(both.range, (-1.0, 40.0));
+        assert!(both.value_label.contains("the concrete's range"));
+        let [_, alone] = field_maps(0.0, &[projectile]);
+        assert_eq!(alone.range, (2000.0, 2000.0));
+        assert_eq!(alone.value_label, "pressure (MPa)");
     }
 
     /// A particle's square has its share of the plane: side s for ring mass 2π r ρ s².
