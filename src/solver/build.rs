@@ -148,11 +148,12 @@ pub fn build(
 }
 
 /// Move a started model onto the backend asked for (see [`build`]).
+/// Under `auto`, why the CPU path runs when it does.
 pub(super) fn attach(
     sim: &mut Simulation,
     backend: Backend,
     adapter: Option<&str>,
-) -> Result<(), RunError> {
+) -> Result<Option<String>, RunError> {
     match backend {
         Backend::Cpu => {}
         Backend::Gpu => {
@@ -160,13 +161,12 @@ pub(super) fn attach(
                 .map_err(|e| RunError::Setup(format!("--backend gpu: {e}")))?;
             sim.use_gpu(gpu)?;
         }
-        Backend::Auto => {
-            if let Ok(gpu) = auto_gpu(adapter) {
-                sim.use_gpu(gpu)?;
-            }
-        }
+        Backend::Auto => match auto_gpu(adapter) {
+            Ok(gpu) => sim.use_gpu(gpu)?,
+            Err(why) => return Ok(Some(why)),
+        },
     }
-    Ok(())
+    Ok(None)
 }
 
 /// What `auto` takes, the same in every command: a hardware GPU wgpu finds, or the adapter

@@ -107,8 +107,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         write_summary(&opts.out, &summary).map_err(early(Output::Summary))?;
         return Ok(RunOutcome { summary, ok: false });
     }
-    let (backend, fell_back) = super::build::resolve(backend, opts.adapter.as_deref());
-    attach(&mut sim, backend, opts.adapter.as_deref())?;
+    let fell_back = attach(&mut sim, backend, opts.adapter.as_deref())?;
     warn_from_estimate(scene, &opts.out, opts.vtk, fell_back.as_deref());
     let (mut history, mut pvd) = match &restart {
         Some(r) => r
