@@ -75,13 +75,15 @@ fn quick_validation_writes_every_section() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("Quick run") && report.contains("not validation"));
     assert!(report.contains(
-        "Sections run: taylor, forrestal, target-size, convergence, rigid-vs-elastic, \
-         deformation, shell"
+        "Sections run: taylor, forrestal, crh3-rods, target-size, convergence, \
+         rigid-vs-elastic, deformation, shell"
     ));
     for title in [
         "## Checks",
         "## Taylor bars",
         "## Forrestal et al. (1994) shots",
+        "## CRH 3 rods into concrete and grout",
+        "every penetration shot (10), all sets",
         "## Target size",
         "## Error against run time",
         "## Rigid against elastic-plastic projectile",
@@ -97,6 +99,7 @@ fn quick_validation_writes_every_section() {
     for name in [
         "taylor",
         "forrestal",
+        "crh3-rods",
         "target-size",
         "convergence",
         "rigid-vs-elastic",
@@ -106,25 +109,28 @@ fn quick_validation_writes_every_section() {
         let command = format!("- Command: `penetrate validate --only {name} --backend cpu");
         assert!(report.contains(&command), "report.md lacks {command}");
     }
-    assert_eq!(report.matches("\n- Data source: ").count(), 7);
-    assert_eq!(report.matches("\n- Verdict: ").count(), 7);
+    assert_eq!(report.matches("\n- Data source: ").count(), 8);
+    assert_eq!(report.matches("\n- Verdict: ").count(), 8);
     assert!(summary.contains("not validation"), "{summary}");
     assert!(
         summary.contains("[Forrestal et al. (1994) shots](report.md#forrestal-et-al-1994-shots)"),
         "{summary}"
     );
-    assert_eq!(summary.matches("](report.md#").count(), 7, "{summary}");
-    // The data file names its columns in a comment: every other line is a shot.
-    let shots = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .comment(Some(b'#'))
-        .from_path(data().join("forrestal1994.csv"))
-        .unwrap()
-        .records()
-        .count();
+    assert_eq!(summary.matches("](report.md#").count(), 8, "{summary}");
+    // The data files name their columns in a comment: every other line is a shot.
+    let shots = |file: &str| {
+        csv::ReaderBuilder::new()
+            .has_headers(false)
+            .comment(Some(b'#'))
+            .from_path(data().join(file))
+            .unwrap()
+            .records()
+            .count()
+    };
     for (csv, rows) in [
         ("taylor/taylor.csv", 9),
-        ("forrestal/forrestal.csv", shots),
+        ("forrestal/forrestal.csv", shots("forrestal1994.csv")),
+        ("crh3-rods/crh3-rods.csv", shots("crh3-rods.csv")),
         ("target-size/target-size.csv", 2),
         // Two shots at four resolutions on the one backend, and each struck at five speeds
         // a few ulps apart at the coarsest (the round-off ensemble).
@@ -155,9 +161,10 @@ fn quick_validation_writes_every_section() {
     assert!(!csv_rows(&out.join("shell/damage-area.csv")).is_empty());
     let mut found = Vec::new();
     pngs(&out, &mut found);
-    // At least these 15: two Taylor, one Forrestal, two convergence, two history, three
-    // deformation, five shell (a quick run writes 17: a second Forrestal plot, a sixth shell one).
-    assert!(found.len() >= 15, "{found:?}");
+    // At least these 16: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
+    // history, three deformation, five shell (a quick run writes 19: a second Forrestal and
+    // CRH 3 rods plot, a sixth shell one).
+    assert!(found.len() >= 16, "{found:?}");
     for png in &found {
         let bytes = std::fs::read(png).unwrap();
         assert!(

@@ -1,6 +1,7 @@
 //! The measurements the validation compares with (`--data DIR`, the repository's `data/` by
-//! default): Taylor bars (`taylor.csv`) and the Forrestal et al. (1994) shots
-//! (`forrestal1994.csv`). Both files name their columns in the last comment line before the data.
+//! default): Taylor bars (`taylor.csv`), the Forrestal et al. (1994) shots (`forrestal1994.csv`)
+//! and the CRH 3 rods (`crh3-rods.csv`). Each file names its columns in the last comment line
+//! before the data.
 
 use std::path::Path;
 
@@ -17,9 +18,11 @@ pub struct TaylorTest {
     pub mushroom_diameter: f64,
 }
 
-/// One Forrestal et al. (1994) shot, SI units.
+/// One penetration shot, SI units.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shot {
+    /// The set it belongs to; its scene is `cases/<set>-<velocity>.toml`.
+    pub set: String,
     pub velocity: f64,
     /// Measured projectile mass (kg).
     pub mass: f64,
@@ -27,10 +30,24 @@ pub struct Shot {
     pub fc: f64,
     /// Measured depth of penetration (m).
     pub depth: f64,
+    /// The projectile's outline where the file gives it per row (the Forrestal 1994 file gives
+    /// one outline in its header).
+    pub outline: Option<Outline>,
+}
+
+/// An ogive-nosed projectile's outline, SI units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outline {
+    pub diameter: f64,
+    pub length: f64,
+    pub crh: f64,
 }
 
 pub const TAYLOR_FILE: &str = "taylor.csv";
 pub const FORRESTAL_FILE: &str = "forrestal1994.csv";
+pub const CRH3_RODS_FILE: &str = "crh3-rods.csv";
+/// The set name of the shots of [`FORRESTAL_FILE`].
+pub const FORRESTAL_SET: &str = "forrestal1994";
 /// The most bytes a data file may have: the shipped ones have under 1 kB.
 const DATA_FILE_LIMIT: u64 = 16 << 20;
 
@@ -53,10 +70,31 @@ pub fn forrestal(dir: &Path) -> Result<Vec<Shot>, ValidateError> {
     let table = Table::read(&dir.join(FORRESTAL_FILE))?;
     table.rows(|row| {
         Ok(Shot {
+            set: FORRESTAL_SET.into(),
             velocity: row.number("velocity_m_s")?,
             mass: row.number("mass_kg")?,
             fc: row.number("fc_MPa")? * 1e6,
             depth: row.number("depth_m")?,
+            outline: None,
+        })
+    })
+}
+
+pub fn crh3_rods(dir: &Path) -> Result<Vec<Shot>, ValidateError> {
+    let table = Table::read(&dir.join(CRH3_RODS_FILE))?;
+    let mm = 1e-3;
+    table.rows(|row| {
+        Ok(Shot {
+            set: row.text("set")?,
+            velocity: row.number("velocity_m_s")?,
+            mass: row.number("mass_kg")?,
+            fc: row.number("fc_MPa")? * 1e6,
+            depth: row.number("depth_m")?,
+            outline: Some(Outline {
+                diameter: row.number("diameter_mm")? * mm,
+                length: row.number("length_mm")? * mm,
+                crh: row.number("crh")?,
+            }),
         })
     })
 }
@@ -75,7 +113,7 @@ impl Table {
         let unreadable = |why: String| {
             ValidateError::Input(format!(
                 "{file}: cannot read the data file ({why}); pass --data DIR, the folder with \
-                 {TAYLOR_FILE} and {FORRESTAL_FILE}"
+                 {TAYLOR_FILE}, {FORRESTAL_FILE} and {CRH3_RODS_FILE}"
             ))
         };
         let bytes = crate::scene::read_capped(path, DATA_FILE_LIMIT)
@@ -195,6 +233,26 @@ mod tests {
         );
     }
 
+    /// The shipped rods file: two sets, each row with its outline, in SI units.
+    #[test]
+    fn the_rods_file_gives_each_shot_its_set_and_outline() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+        let shots = crh3_rods(&dir).unwrap();
+        assert_eq!(shots.len(), 6);
+        let first = &shots[0];
+        assert_eq!(first.set, "frew-30mm-58");
+        assert_eq!(
+            (first.velocity, first.mass, first.depth),
+            (445.0, 1.62, 0.46)
+        );
+        assert!((first.fc - 58.4e6).abs() < 1.0);
+        let o = first.outline.unwrap();
+        assert!((o.diameter - 0.0305).abs() < 1e-12 && (o.length - 0.3048).abs() < 1e-12);
+        assert_eq!(o.crh, 3.0);
+        assert!(shots.iter().filter(|s| s.set == "f96-64g-13").count() == 3);
+        assert!(forrestal(&dir).unwrap().iter().all(|s| s.outline.is_none()));
+    }
+
     #[test]
     fn columns_come_from_the_comment_line_before_the_data() {
         let dir = std::env::temp_dir().join(format!("penetrate-data-{}", std::process::id()));
@@ -208,10 +266,12 @@ mod tests {
         assert_eq!(
             shots,
             vec![Shot {
+                set: FORRESTAL_SET.into(),
                 velocity: 300.0,
                 mass: 0.9,
                 fc: 35e6,
-                depth: 0.2
+                depth: 0.2,
+                outline: None,
             }]
         );
         std::fs::write(dir.join(FORRESTAL_FILE), "# velocity_m_s,mass_kg\nfast,1\n").unwrap();
