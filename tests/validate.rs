@@ -76,7 +76,7 @@ fn quick_validation_writes_every_section() {
     assert!(report.contains("Quick run") && report.contains("not validation"));
     assert!(report.contains(
         "Sections run: taylor, forrestal, crh3-rods, target-size, convergence, \
-         rigid-vs-elastic, deformation, shell"
+         rigid-vs-elastic, deformation, shell, nose-lining"
     ));
     for title in [
         "## Checks",
@@ -90,6 +90,7 @@ fn quick_validation_writes_every_section() {
         "## Plastic deformation against striking speed",
         "## Shell projectile",
         "critical velocity",
+        "## Concrete lining the nose: CRH 2 against CRH 6",
     ] {
         assert!(report.contains(title), "report.md lacks {title}");
     }
@@ -105,18 +106,19 @@ fn quick_validation_writes_every_section() {
         "rigid-vs-elastic",
         "deformation",
         "shell",
+        "nose-lining",
     ] {
         let command = format!("- Command: `penetrate validate --only {name} --backend cpu");
         assert!(report.contains(&command), "report.md lacks {command}");
     }
-    assert_eq!(report.matches("\n- Data source: ").count(), 8);
-    assert_eq!(report.matches("\n- Verdict: ").count(), 8);
+    assert_eq!(report.matches("\n- Data source: ").count(), 9);
+    assert_eq!(report.matches("\n- Verdict: ").count(), 9);
     assert!(summary.contains("not validation"), "{summary}");
     assert!(
         summary.contains("[Forrestal et al. (1994) shots](report.md#forrestal-et-al-1994-shots)"),
         "{summary}"
     );
-    assert_eq!(summary.matches("](report.md#").count(), 8, "{summary}");
+    assert_eq!(summary.matches("](report.md#").count(), 9, "{summary}");
     // The data files name their columns in a comment: every other line is a shot.
     let shots = |file: &str| {
         csv::ReaderBuilder::new()
@@ -159,12 +161,18 @@ fn quick_validation_writes_every_section() {
         "no critical velocity found"
     );
     assert!(!csv_rows(&out.join("shell/damage-area.csv")).is_empty());
+    // Both noses lined, every reading finite.
+    let lining = csv_rows(&out.join("nose-lining/lining.csv"));
+    assert!(lining.iter().any(|l| &l[0] == "2") && lining.iter().any(|l| &l[0] == "6"));
+    assert!(lining
+        .iter()
+        .all(|l| l.iter().all(|f| f.parse::<f64>().is_ok_and(f64::is_finite))));
     let mut found = Vec::new();
     pngs(&out, &mut found);
-    // At least these 16: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
-    // history, three deformation, five shell (a quick run writes 19: a second Forrestal and
-    // CRH 3 rods plot, a sixth shell one).
-    assert!(found.len() >= 16, "{found:?}");
+    // At least these 19: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
+    // history, three deformation, five shell, three nose-lining (a quick run writes 22: a
+    // second Forrestal and CRH 3 rods plot, a sixth shell one).
+    assert!(found.len() >= 19, "{found:?}");
     for png in &found {
         let bytes = std::fs::read(png).unwrap();
         assert!(

@@ -203,3 +203,64 @@ fn correct(g: [f32; 4], m: [f32; 4]) -> [f32; 4] {
         g[2] * inv[1] + g[3] * inv[3],
     ]
 }
+
+/// What a particle's neighbourhood gives it, for the nose-lining study (`studies::lining`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KernelReading {
+    /// Kernel completeness `Σ_j (m̃_j/ρ_j) W_ij` over the particle itself, its neighbours and
+    /// the axis ghosts: 1 inside the material, ½–¾ at a free face (the face's own row counts
+    /// whole).
+    pub completeness: f32,
+    /// The volumetric rate `−ρ̇/ρ` as the step takes it (this scene's gradient and hoop rate).
+    pub divergence: f32,
+    /// The same rate from the corrected gradient `G M⁻¹`, exact for a linear field however
+    /// much of the kernel is cut, with the full hoop rate `v_r/r`.
+    pub divergence_corrected: f32,
+}
+
+/// [`KernelReading`] at the particles `which`, from the current positions and velocities.
+pub fn kernel_readings(
+    particles: &Particles,
+    params: &SphParams,
+    which: &[usize],
+) -> Vec<KernelReading> {
+    let h = params.h;
+    let kernel = &params.kernel;
+    let support = kernel.support();
+    let p = particles;
+    let mut grid = CellGrid::default();
+    super::neighbours::run(&mut grid, &p.r, &p.z, support);
+    let m_tilde: Vec<f32> = (0..p.r.len())
+        .map(|i| p.mass[i] / (TWO_PI * hoop_radius(p.r[i], h)))
+        .collect();
+    let area: Vec<f32> = m_tilde.iter().zip(&p.rho).map(|(m, rho)| m / rho).collect();
+    let field = |conjugate| Field {
+        r: &p.r,
+        z: &p.z,
+        rho: &p.rho,
+        m_tilde: &m_tilde,
+        area: &area,
+        h,
+        conjugate,
+        grid: &grid,
+        kernel,
+        support,
+    };
+    let (stepped, corrected) = (field(params.conjugate_gradient), field(false));
+    which
+        .iter()
+        .map(|&i| {
+            let mut completeness = area[i] * kernel.w(0.0);
+            for_each_neighbour(&grid, &p.r, &p.z, i, support, |nb| {
+                completeness += area[nb.j] * kernel.w(nb.dist);
+            });
+            let (l, weight) = stepped.gradient(i, &p.vr, &p.vz);
+            let (lc, _) = corrected.gradient(i, &p.vr, &p.vz);
+            KernelReading {
+                completeness,
+                divergence: l[0] + l[3] + hoop_rate(params, weight, p.vr[i], p.r[i]),
+                divergence_corrected: lc[0] + lc[3] + p.vr[i] / hoop_radius(p.r[i], h),
+            }
+        })
+        .collect()
+}

@@ -115,6 +115,13 @@ pub struct Model {
     pub adapter: String,
 }
 
+impl Model {
+    /// Per master segment of [`Projectile::masters`]: whether it started on the nose.
+    pub fn on_nose(&self) -> &[bool] {
+        &self.on_nose
+    }
+}
+
 /// A model and what steps it: the CPU reference path until [`Simulation::use_gpu`].
 pub struct Simulation {
     model: Model,

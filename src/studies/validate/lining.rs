@@ -1,0 +1,221 @@
+//! The concrete lining the nose, CRH 2 against CRH 6 ([`crate::studies::lining`]): kernel
+//! completeness, the volumetric rate the step reads against a first-order consistent one, and
+//! the pressure, along the nose. A measurement for the issue's question whether the cut kernel
+//! under-reads a slender nose's compaction; no accuracy target.
+
+use crate::output::plot::{Chart, Mark};
+use crate::studies::lining::{study, Snapshot};
+
+use super::context::Context;
+use super::report::{or_dash, table, SectionOut};
+use super::{Section, ValidateError};
+
+/// The noses compared (calibres), on the 277 m/s shot's scene.
+const NOSES: [f64; 2] = [2.0, 6.0];
+/// The lining: particles within this many smoothing lengths of the nose's surface.
+const BAND: f32 = 1.0;
+/// Bins along the nose, tip to shoulder.
+const BINS: usize = 5;
+
+pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
+    let section = Section::Lining;
+    // Full: from when the CRH 6 nose (64.5 mm) is buried at 277 m/s to well into the tunnel;
+    // quick: inside the quick run's 0.3 ms.
+    let times: &[f64] = if ctx.settings.quick {
+        &[1.5e-4, 2.0e-4, 2.5e-4]
+    } else {
+        &[3.5e-4, 4.0e-4, 4.5e-4, 5.0e-4]
+    };
+    let mut readings = Vec::new();
+    for (k, &crh) in NOSES.iter().enumerate() {
+        let mut overrides = ctx.settings.forrestal.clone();
+        overrides.push(format!("projectile.crh={crh}"));
+        let scene = ctx.scene("forrestal1994-277.toml", &overrides)?;
+        let started = std::time::Instant::now();
+        let snapshots = study(&scene, times, BAND)
+            .map_err(|e| ValidateError::Input(format!("{}: CRH {crh}: {e}", section.name())))?;
+        (ctx.progress)(&format!(
+            "[lining {}/{}] CRH {crh} on cpu: {} lining readings at {} instants, {:.1} s",
+            k + 1,
+            NOSES.len(),
+            snapshots.iter().map(|s| s.lining.len()).sum::<usize>(),
+            snapshots.len(),
+            started.elapsed().as_secs_f64()
+        ));
+        readings.push((crh, snapshots));
+    }
+    let mut rows = Vec::new();
+    for (crh, snapshots) in &readings {
+        for s in snapshots {
+            for l in &s.lining {
+                rows.push(vec![
+                    crh.to_string(),
+                    s.time.to_string(),
+                    s.depth.to_string(),
+                    l.along.to_string(),
+                    l.radius_ratio.to_string(),
+                    l.distance.to_string(),
+                    l.normal_velocity.to_string(),
+                    l.pressure.to_string(),
+                    l.kernel.completeness.to_string(),
+                    l.kernel.divergence.to_string(),
+                    l.kernel.divergence_corrected.to_string(),
+                ]);
+            }
+        }
+    }
+    let csv = ctx.csv(
+        section,
+        "lining.csv",
+        &[
+            "crh",
+            "time_s",
+            "depth_m",
+            "along_nose",
+            "r_over_a",
+            "distance_over_h",
+            "normal_velocity_m_s",
+            "pressure_pa",
+            "completeness",
+            "divergence_1_s",
+            "divergence_corrected_1_s",
+        ],
+        &rows,
+    )?;
+    let binned: Vec<(f64, Vec<Bin>)> = readings.iter().map(|(crh, s)| (*crh, bins(s))).collect();
+    let chart = |title: &str, y: &str, f: &dyn Fn(&Bin) -> Option<f64>| {
+        binned.iter().fold(
+            Chart::new(title, "position along the nose (0 tip, 1 shoulder)", y),
+            |c, (crh, b)| {
+                let points = b
+                    .iter()
+                    .filter_map(|bin| f(bin).map(|y| (bin.centre, y)))
+                    .collect();
+                c.series(&format!("CRH {crh}"), points, Mark::LinePoints)
+            },
+        )
+    };
+    let completeness = ctx.plot(
+        section,
+        "completeness.png",
+        &chart(
+            "Kernel completeness of the concrete lining the nose",
+            "Σ (m/ρ) W",
+            &|b| b.completeness,
+        ),
+    )?;
+    let rate = ctx.plot(
+        section,
+        "volumetric-rate.png",
+        &chart(
+            "Volumetric rate read by the step over the corrected gradient's",
+            "−ρ̇/ρ ÷ corrected",
+            &|b| b.rate_ratio,
+        ),
+    )?;
+    let pressure = ctx.plot(
+        section,
+        "pressure.png",
+        &chart(
+            "Pressure in the concrete lining the nose",
+            "pressure (MPa)",
+            &|b| b.pressure.map(|p| p * 1e-6),
+        ),
+    )?;
+    let mut table_rows = Vec::new();
+    for (crh, b) in &binned {
+        for bin in b {
+            table_rows.push(vec![
+                format!("{crh}"),
+                format!(
+                    "{:.1}–{:.1}",
+                    bin.centre - 0.5 / BINS as f64,
+                    bin.centre + 0.5 / BINS as f64
+                ),
+                bin.count.to_string(),
+                or_dash(bin.normal_velocity, |v| format!("{v:.0}")),
+                or_dash(bin.completeness, |c| format!("{c:.2}")),
+                or_dash(bin.rate_ratio, |r| format!("{r:.2}")),
+                or_dash(bin.pressure, |p| format!("{:.0}", p * 1e-6)),
+            ]);
+        }
+    }
+    let mut md = format!(
+        "The 277 m/s shot's scene{} with a CRH 2 and a CRH 6 nose (same body otherwise), on the \
+         CPU path, read at t = {} ms: every particle within {BAND} h of the nose's surface and \
+         not behind it. Per bin along the nose: readings (all instants), the nose's mean normal \
+         velocity, the kernel completeness `Σ (m̃/ρ) W` (1 in the bulk, ½–¾ at a free face), the volumetric rate `−ρ̇/ρ` the step reads over the rate a first-order \
+         consistent gradient (`G M⁻¹`, full hoop rate) reads from the same velocities (the \
+         ratio of their sums), and the mean pressure. Raw data: {csv}.\n\n",
+        if ctx.settings.quick {
+            " with the quick overrides"
+        } else {
+            ""
+        },
+        times
+            .iter()
+            .map(|t| format!("{}", t * 1e3))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    md += &table(
+        &[
+            "CRH",
+            "along the nose",
+            "readings",
+            "v_n (m/s)",
+            "completeness",
+            "rate ÷ corrected",
+            "pressure (MPa)",
+        ],
+        &table_rows,
+    );
+    md += &completeness;
+    md += &rate;
+    md += &pressure;
+    Ok(SectionOut {
+        markdown: md,
+        checks: vec![],
+    })
+}
+
+/// One bin along the nose over every instant's readings.
+struct Bin {
+    centre: f64,
+    count: usize,
+    normal_velocity: Option<f64>,
+    completeness: Option<f64>,
+    /// Σ divergence / Σ corrected divergence.
+    rate_ratio: Option<f64>,
+    pressure: Option<f64>,
+}
+
+fn bins(snapshots: &[Snapshot]) -> Vec<Bin> {
+    (0..BINS)
+        .map(|k| {
+            let (lo, hi) = (k as f32 / BINS as f32, (k + 1) as f32 / BINS as f32);
+            let inside: Vec<_> = snapshots
+                .iter()
+                .flat_map(|s| &s.lining)
+                .filter(|l| l.along >= lo && (l.along < hi || (k + 1 == BINS && l.along <= hi)))
+                .collect();
+            let count = inside.len();
+            let mean = |f: &dyn Fn(&&crate::studies::lining::Lining) -> f32| {
+                (count > 0).then(|| inside.iter().map(|l| f(l) as f64).sum::<f64>() / count as f64)
+            };
+            let corrected: f64 = inside
+                .iter()
+                .map(|l| l.kernel.divergence_corrected as f64)
+                .sum();
+            let stepped: f64 = inside.iter().map(|l| l.kernel.divergence as f64).sum();
+            Bin {
+                centre: (lo + hi) as f64 / 2.0,
+                count,
+                normal_velocity: mean(&|l| l.normal_velocity),
+                completeness: mean(&|l| l.kernel.completeness),
+                rate_ratio: (count > 0 && corrected != 0.0).then(|| stepped / corrected),
+                pressure: mean(&|l| l.pressure),
+            }
+        })
+        .collect()
+}
