@@ -85,22 +85,20 @@ pub fn correct(
     if hits.is_empty() {
         return stats;
     }
-    let m_total = total_mass as f32;
     let dt = b.dt;
-    // Running global shift along z: node i's velocity is (vr, vz + shift) and its position
-    // (r, z + shift Δt) until it is applied.
-    let mut shift = 0.0f32;
-    // Projectile z-momentum with the shift included (f64: it is a sum over all nodes).
-    let mut p_z: f64 = (0..b.node_mass.len())
-        .map(|i| b.node_mass[i] as f64 * b.node_vz[i] as f64)
-        .sum();
-    let ke =
-        |m: f32, vr: f32, vz: f32| 0.5 * m as f64 * ((vr as f64).powi(2) + (vz as f64).powi(2));
+    let mut g = Global {
+        lambda,
+        total_mass,
+        shift: 0.0,
+        p_z: (0..b.node_mass.len())
+            .map(|i| b.node_mass[i] as f64 * b.node_vz[i] as f64)
+            .sum(),
+    };
     for hit in hits {
         let seg = masters[hit.master as usize];
         let (a, bn, s) = (seg.a as usize, seg.b as usize, hit.slave as usize);
-        let (ar, az) = (b.node_r[a], b.node_z[a] + shift * dt);
-        let (br, bz) = (b.node_r[bn], b.node_z[bn] + shift * dt);
+        let (ar, az) = (b.node_r[a], b.node_z[a] + g.shift * dt);
+        let (br, bz) = (b.node_r[bn], b.node_z[bn] + g.shift * dt);
         let (er, ez) = (br - ar, bz - az);
         let len2 = er * er + ez * ez;
         let len = len2.sqrt();
@@ -112,55 +110,28 @@ pub fn correct(
         b.slave_r[s] = foot_r;
         b.slave_z[s] = foot_z;
 
-        let (w_a, w_b) = (1.0 - t, t);
-        let v_a = [b.node_vr[a], b.node_vz[a] + shift];
-        let v_b = [b.node_vr[bn], b.node_vz[bn] + shift];
-        let v_s = [b.slave_vr[s], b.slave_vz[s]];
-        let dot = |v: [f32; 2]| v[0] * n[0] + v[1] * n[1];
-        let closing = w_a * dot(v_a) + w_b * dot(v_b) - dot(v_s);
+        let touch = Touch {
+            s,
+            a,
+            b: bn,
+            w_a: 1.0 - t,
+            w_b: t,
+            m_s: b.slave_mass[s],
+            m_a: b.node_mass[a],
+            m_b: b.node_mass[bn],
+            nose: on_nose[hit.master as usize],
+        };
+        let closing = touch.relative(b, &g, n);
         if closing.is_nan() || closing <= 0.0 {
             continue;
         }
         stats.closing += 1;
-        let (m_s, m_a, m_b) = (b.slave_mass[s], b.node_mass[a], b.node_mass[bn]);
-        let denom = 1.0
-            + lambda * m_s * (w_a * w_a / m_a + w_b * w_b / m_b)
-            + (1.0 - lambda) * m_s * n[1] * n[1] / m_total;
-        let delta = closing / denom;
-        let impulse = -(m_s as f64) * delta as f64 * n[1] as f64;
-        stats.impulse_z += impulse;
-        if on_nose[hit.master as usize] {
-            stats.nose_impulse_z += impulse;
-        }
-
-        let mut d_ke = -ke(m_s, v_s[0], v_s[1]);
-        b.slave_vr[s] += delta * n[0];
-        b.slave_vz[s] += delta * n[1];
-        d_ke += ke(m_s, b.slave_vr[s], b.slave_vz[s]);
-
-        for (node, w, m) in [(a, w_a, m_a), (bn, w_b, m_b)] {
-            let dv = -lambda * delta * m_s * w / m;
-            let before = [b.node_vr[node], b.node_vz[node] + shift];
-            // Axis nodes keep ṙ = 0: they take only the axial part.
-            if b.node_on_axis[node] == 0 {
-                b.node_vr[node] += dv * n[0];
-                b.node_r[node] += dv * n[0] * dt;
-            }
-            b.node_vz[node] += dv * n[1];
-            b.node_z[node] += dv * n[1] * dt;
-            let after = [b.node_vr[node], b.node_vz[node] + shift];
-            d_ke += ke(m, after[0], after[1]) - ke(m, before[0], before[1]);
-            p_z += m as f64 * (after[1] - before[1]) as f64;
-        }
-
-        let g = -(1.0 - lambda) * delta * m_s * n[1] / m_total;
-        d_ke += g as f64 * p_z + 0.5 * total_mass * (g as f64).powi(2);
-        p_z += total_mass * g as f64;
-        shift += g;
-        stats.dissipated -= d_ke;
-        b.slave_r[s] = w_a * b.node_r[a] + w_b * b.node_r[bn];
-        b.slave_z[s] = w_a * b.node_z[a] + w_b * b.node_z[bn] + shift * dt;
+        let delta = closing / touch.denominator(&g, n[1]);
+        touch.kick(b, &mut g, &mut stats, n, delta);
+        b.slave_r[s] = touch.w_a * b.node_r[a] + touch.w_b * b.node_r[bn];
+        b.slave_z[s] = touch.w_a * b.node_z[a] + touch.w_b * b.node_z[bn] + g.shift * dt;
     }
+    let shift = g.shift;
     if shift != 0.0 {
         for (v, z) in b.node_vz.iter_mut().zip(b.node_z.iter_mut()) {
             *v += shift;
@@ -169,6 +140,101 @@ pub fn correct(
     }
     stats.global_shift = shift;
     stats
+}
+
+/// The projectile as a whole while the step's hits are applied.
+struct Global {
+    lambda: f32,
+    /// Total projectile mass M (kg).
+    total_mass: f64,
+    /// Running global shift along z: node i's velocity is (vr, vz + shift) and its position
+    /// (r, z + shift Δt) until it is applied.
+    shift: f32,
+    /// Projectile z-momentum with the shift included (f64: it is a sum over all nodes).
+    p_z: f64,
+}
+
+/// One hit: slave `s` at weights `w_a`, `w_b` between the nodes `a` and `b`.
+struct Touch {
+    s: usize,
+    a: usize,
+    b: usize,
+    w_a: f32,
+    w_b: f32,
+    m_s: f32,
+    m_a: f32,
+    m_b: f32,
+    /// Whether the hit's master is on the nose (`nose_impulse_z`).
+    nose: bool,
+}
+
+impl Touch {
+    /// Relative velocity w_A v_A + w_B v_B − v_S along the unit vector `e` (shift included).
+    fn relative(&self, b: &ContactBodies, g: &Global, e: [f32; 2]) -> f32 {
+        let v_a = [b.node_vr[self.a], b.node_vz[self.a] + g.shift];
+        let v_b = [b.node_vr[self.b], b.node_vz[self.b] + g.shift];
+        let v_s = [b.slave_vr[self.s], b.slave_vz[self.s]];
+        let dot = |v: [f32; 2]| v[0] * e[0] + v[1] * e[1];
+        self.w_a * dot(v_a) + self.w_b * dot(v_b) - dot(v_s)
+    }
+
+    /// The slave's effective mass ratio along a unit vector whose z part is `e_z`: a jump δ
+    /// of the slave along it changes the relative velocity along it by δ times this.
+    fn denominator(&self, g: &Global, e_z: f32) -> f32 {
+        let (m_s, w_a, w_b) = (self.m_s, self.w_a, self.w_b);
+        1.0 + g.lambda * m_s * (w_a * w_a / self.m_a + w_b * w_b / self.m_b)
+            + (1.0 - g.lambda) * m_s * e_z * e_z / g.total_mass as f32
+    }
+
+    /// The slave's velocity jumps by `delta` along the unit vector `e`; the projectile takes
+    /// the opposite impulse, λ of it on A and B (positions moved by the change times Δt) and
+    /// the rest as the global shift along z. The kinetic energy lost and the axial impulse the
+    /// projectile received are booked in `stats`.
+    fn kick(
+        &self,
+        b: &mut ContactBodies,
+        g: &mut Global,
+        stats: &mut CorrectionStats,
+        e: [f32; 2],
+        delta: f32,
+    ) {
+        let (s, m_s, dt) = (self.s, self.m_s, b.dt);
+        let impulse = -(m_s as f64) * delta as f64 * e[1] as f64;
+        stats.impulse_z += impulse;
+        if self.nose {
+            stats.nose_impulse_z += impulse;
+        }
+        let mut d_ke = -ke(m_s, b.slave_vr[s], b.slave_vz[s]);
+        b.slave_vr[s] += delta * e[0];
+        b.slave_vz[s] += delta * e[1];
+        d_ke += ke(m_s, b.slave_vr[s], b.slave_vz[s]);
+
+        for (node, w, m) in [(self.a, self.w_a, self.m_a), (self.b, self.w_b, self.m_b)] {
+            let dv = -g.lambda * delta * m_s * w / m;
+            let before = [b.node_vr[node], b.node_vz[node] + g.shift];
+            // Axis nodes keep ṙ = 0: they take only the axial part.
+            if b.node_on_axis[node] == 0 {
+                b.node_vr[node] += dv * e[0];
+                b.node_r[node] += dv * e[0] * dt;
+            }
+            b.node_vz[node] += dv * e[1];
+            b.node_z[node] += dv * e[1] * dt;
+            let after = [b.node_vr[node], b.node_vz[node] + g.shift];
+            d_ke += ke(m, after[0], after[1]) - ke(m, before[0], before[1]);
+            g.p_z += m as f64 * (after[1] - before[1]) as f64;
+        }
+
+        let shift = -(1.0 - g.lambda) * delta * m_s * e[1] / g.total_mass as f32;
+        d_ke += shift as f64 * g.p_z + 0.5 * g.total_mass * (shift as f64).powi(2);
+        g.p_z += g.total_mass * shift as f64;
+        g.shift += shift;
+        stats.dissipated -= d_ke;
+    }
+}
+
+/// Kinetic energy of mass `m` at velocity (vr, vz) (J).
+fn ke(m: f32, vr: f32, vz: f32) -> f64 {
+    0.5 * m as f64 * ((vr as f64).powi(2) + (vz as f64).powi(2))
 }
 
 #[cfg(test)]
