@@ -26,6 +26,20 @@
 //! form of a kinematic contact). Without this, a node in lasting contact drifted a·Δt² per step
 //! further than the velocity that its elements' strain rate saw, and the projectile's plastic
 //! strain and damage grew in proportion to the step (docs/physics.md §4).
+//!
+//! With a Coulomb coefficient μ > 0 a closing hit then takes a tangential jump along the
+//! segment's unit tangent t = (B − A)/|AB|, from the relative tangential velocity
+//! Δ_t = (w_A v_A + w_B v_B − v_S)·t left by the normal jump, split the same way:
+//!
+//! ```text
+//! δ_t = clamp(Δ_t / [1 + λ m_S (w_A²/m_A + w_B²/m_B) + (1 − λ) m_S t_z² / M], −μ δ, μ δ)
+//! v_S += δ_t t,  v_A −= λ δ_t m_S w_A/m_A t,  v_B −= λ δ_t m_S w_B/m_B t,
+//! every node: v_z −= (1 − λ) δ_t m_S t_z / M
+//! ```
+//!
+//! Unclamped it stops the sliding (sticking); clamped, the tangential impulse m_S |δ_t| is μ
+//! times the normal one m_S δ (slipping). Either way it removes kinetic energy, booked with the
+//! normal step's in `dissipated`.
 
 use crate::mesh::MasterSegment;
 
@@ -56,7 +70,8 @@ pub struct ContactBodies<'a> {
 /// What one step's corrections did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CorrectionStats {
-    /// Kinetic energy lost in the inelastic normal collisions (J, ≥ 0 up to round-off).
+    /// Kinetic energy lost in the inelastic normal collisions and to friction (J, ≥ 0 up to
+    /// round-off).
     pub dissipated: f64,
     /// Hits that were closing (velocity corrected).
     pub closing: usize,
@@ -64,8 +79,9 @@ pub struct CorrectionStats {
     pub max_penetration: f32,
     /// Global velocity shift added to every node along z (m/s).
     pub global_shift: f32,
-    /// Axial impulse the hits gave the projectile, −Σ δ m_S n_z (N s; +z resists a flight
-    /// along −z): the local and the global parts of each hit together.
+    /// Axial impulse the hits gave the projectile, −Σ m_S (δ n_z + δ_t t_z) (N s; +z resists
+    /// a flight along −z): the local and the global parts of each hit together, friction's
+    /// included.
     pub impulse_z: f64,
     /// The part of `impulse_z` from hits on the nose's segments (N s).
     pub nose_impulse_z: f64,
@@ -73,12 +89,14 @@ pub struct CorrectionStats {
 
 /// Apply every hit in order (the caller passes them sorted by slave index). `on_nose[k]` says
 /// whether master `k` is on the nose: its hits' impulse is booked in `nose_impulse_z` too.
+/// `friction` is the Coulomb coefficient μ of the sliding surface (0: frictionless).
 pub fn correct(
     hits: &[Hit],
     masters: &[MasterSegment],
     on_nose: &[bool],
     b: &mut ContactBodies,
     lambda: f32,
+    friction: f32,
     total_mass: f64,
 ) -> CorrectionStats {
     let mut stats = CorrectionStats::default();
@@ -128,6 +146,17 @@ pub fn correct(
         stats.closing += 1;
         let delta = closing / touch.denominator(&g, n[1]);
         touch.kick(b, &mut g, &mut stats, n, delta);
+
+        // Coulomb friction: the tangential jump that would stop the sliding, at most μ times
+        // the normal one (physics.md §4, Coulomb friction). Skipped at μ = 0 so that the
+        // frictionless step stays what it was, bit for bit.
+        if friction > 0.0 {
+            let tan = [er / len, ez / len];
+            let cap = friction * delta;
+            let sliding = touch.relative(b, &g, tan);
+            let delta_t = (sliding / touch.denominator(&g, tan[1])).clamp(-cap, cap);
+            touch.kick(b, &mut g, &mut stats, tan, delta_t);
+        }
         b.slave_r[s] = touch.w_a * b.node_r[a] + touch.w_b * b.node_r[bn];
         b.slave_z[s] = touch.w_a * b.node_z[a] + touch.w_b * b.node_z[bn] + g.shift * dt;
     }
@@ -243,6 +272,7 @@ mod tests {
 
     /// A projectile of `extra` free nodes plus the segment A(0) → B(1) with outward normal n,
     /// and one slave just inside it. Returns (slave arrays, node arrays).
+    #[derive(Clone)]
     struct Setup {
         sr: Vec<f32>,
         sz: Vec<f32>,
@@ -345,6 +375,57 @@ mod tests {
         (1.0 - t) * dot(s.nvr[0], s.nvz[0]) + t * dot(s.nvr[1], s.nvz[1]) - dot(s.svr[0], s.svz[0])
     }
 
+    /// The unit normal and the unit tangent A → B of `at`'s segment.
+    fn frame(at: &Setup) -> ([f32; 2], [f32; 2]) {
+        let (er, ez) = (at.nr[1] - at.nr[0], at.nz[1] - at.nz[0]);
+        let len = er.hypot(ez);
+        ([ez / len, -er / len], [er / len, ez / len])
+    }
+
+    /// Relative tangential velocity (w_A v_A + w_B v_B − v_S)·t of `s` on `at`'s segment.
+    fn relative_tangential(s: &Setup, at: &Setup, t: f32) -> f32 {
+        let e = frame(at).1;
+        let dot = |vr: f32, vz: f32| vr * e[0] + vz * e[1];
+        (1.0 - t) * dot(s.nvr[0], s.nvz[0]) + t * dot(s.nvr[1], s.nvz[1]) - dot(s.svr[0], s.svz[0])
+    }
+
+    /// The slave's velocity jump from `at`, split into its normal and tangential parts (δ, δ_t).
+    fn slave_jump(s: &Setup, at: &Setup) -> (f32, f32) {
+        let (n, e) = frame(at);
+        let dv = [s.svr[0] - at.svr[0], s.svz[0] - at.svz[0]];
+        (dv[0] * n[0] + dv[1] * n[1], dv[0] * e[0] + dv[1] * e[1])
+    }
+
+    /// The nose segment of the tests, inclined (outward normal ≈ (0.894, −0.447), tangent
+    /// ≈ (0.447, 0.894)).
+    const NOSE: ([f32; 2], [f32; 2]) = ([0.001, -0.008], [0.004, -0.002]);
+
+    /// `correct` of the one hit of `s` at `lambda` and `friction`, on the nose.
+    fn one_hit(s: &mut Setup, lambda: f32, friction: f32) -> CorrectionStats {
+        let m = s.total_mass();
+        correct(
+            &[Hit {
+                slave: 0,
+                master: 0,
+            }],
+            &[SEG],
+            &[true],
+            &mut s.bodies(),
+            lambda,
+            friction,
+            m,
+        )
+    }
+
+    /// A slave that moves nearly with the nose along the surface while it closes on it: its
+    /// relative sliding (≈ −7 m/s) is about half its closing speed (≈ 15 m/s).
+    fn nearly_sticking(t: f32) -> Setup {
+        let mut s = Setup::new(NOSE.0, NOSE.1, t, 1e-4);
+        s.svr[0] = -10.0;
+        s.svz[0] = -290.0;
+        s
+    }
+
     /// One hit on an inclined segment: z-momentum conserved to f32 round-off, eq. (5) holds after
     /// the global shift, every node moves by its velocity change times the step, the slave ends
     /// on the moved segment, and energy is lost, not made.
@@ -369,6 +450,7 @@ mod tests {
                 &[on_nose],
                 &mut s.bodies(),
                 lambda,
+                0.0,
                 m,
             );
             let p1 = s.momentum();
@@ -441,6 +523,7 @@ mod tests {
             &[true],
             &mut s.bodies(),
             0.2,
+            0.0,
             m,
         );
         let p1 = s.momentum();
@@ -470,6 +553,7 @@ mod tests {
             &[SEG],
             &[true],
             &mut s.bodies(),
+            0.0,
             0.0,
             m,
         );
@@ -521,6 +605,7 @@ mod tests {
             &[true],
             &mut s.bodies(),
             1.0,
+            0.0,
             m,
         );
         let (er, ez) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
@@ -572,12 +657,142 @@ mod tests {
             &[true],
             &mut s.bodies(),
             0.2,
+            0.0,
             m,
         );
         assert_eq!(stats.closing, 0);
         assert_eq!(
             (s.nvr.clone(), s.nvz.clone(), s.svr[0], s.svz[0]),
             (vr, vz, 500.0, -500.0)
+        );
+    }
+
+    /// μ = 0 is the frictionless correction: the slave's jump is along the normal only, and the
+    /// relative sliding changes only through the global shift's tangential part.
+    #[test]
+    fn zero_friction_changes_no_tangential_slave_velocity() {
+        let t = 0.3;
+        let mut s = Setup::new(NOSE.0, NOSE.1, t, 1e-4);
+        let before = Setup::new(NOSE.0, NOSE.1, t, 1e-4);
+        one_hit(&mut s, 0.2, 0.0);
+        let (normal, tangential) = slave_jump(&s, &before);
+        assert!(normal > 0.0);
+        assert!(tangential.abs() < 1e-5 * normal, "{tangential} along t");
+    }
+
+    /// With μ large enough the slave sticks: no relative sliding after the hit, and the
+    /// tangential jump stays within μ times the normal one.
+    #[test]
+    fn large_friction_stops_the_sliding() {
+        for lambda in [0.0f32, 0.2, 1.0] {
+            let t = 0.3;
+            let mut s = nearly_sticking(t);
+            let before = nearly_sticking(t);
+            let sliding = relative_tangential(&before, &before, t);
+            assert!(sliding < -1.0, "the slave slides: {sliding}");
+            one_hit(&mut s, lambda, 1.0);
+            let after = relative_tangential(&s, &before, t);
+            assert!(
+                after.abs() < 1e-3,
+                "λ {lambda}: still sliding at {after} m/s"
+            );
+            let (delta, delta_t) = slave_jump(&s, &before);
+            assert!(
+                delta_t.abs() < delta,
+                "λ {lambda}: δ_t {delta_t} beyond μ δ {delta}"
+            );
+        }
+    }
+
+    /// With a small μ the slave slips: its tangential jump is μ times its normal one, against
+    /// its sliding along the surface, and on the nose the friction adds axial drag.
+    #[test]
+    fn small_friction_slips_at_mu_times_the_normal_impulse() {
+        let mu = 0.1;
+        for lambda in [0.0f32, 0.2, 1.0] {
+            let t = 0.3;
+            let before = nearly_sticking(t);
+            let mut frictionless = nearly_sticking(t);
+            let drag0 = one_hit(&mut frictionless, lambda, 0.0).impulse_z;
+            let mut s = nearly_sticking(t);
+            let stats = one_hit(&mut s, lambda, mu);
+            let (delta, delta_t) = slave_jump(&s, &before);
+            assert!(
+                (delta_t.abs() - mu * delta).abs() < 1e-4 * delta,
+                "λ {lambda}: |δ_t| {} vs μ δ {}",
+                delta_t.abs(),
+                mu * delta
+            );
+            // The slave slides at −(w_A v_A + w_B v_B − v_S)·t relative to the surface.
+            let slave_sliding = -relative_tangential(&before, &before, t);
+            assert!(delta_t * slave_sliding < 0.0, "λ {lambda}: δ_t {delta_t}");
+            // The normal jump is the frictionless one: friction comes after it.
+            let (delta0, _) = slave_jump(&frictionless, &before);
+            assert!(
+                (delta - delta0).abs() < 1e-5 * delta0,
+                "λ {lambda}: {delta} vs {delta0}"
+            );
+            let t_z = frame(&before).1[1] as f64;
+            let drag = stats.impulse_z - drag0;
+            let expected = -(s.sm[0] as f64) * delta_t as f64 * t_z;
+            assert!(
+                drag > 0.0 && (drag - expected).abs() < 1e-4 * expected,
+                "λ {lambda}: friction's axial impulse {drag} vs {expected}"
+            );
+            assert_eq!(stats.nose_impulse_z, stats.impulse_z);
+        }
+    }
+
+    /// With friction, sticking or slipping, z-momentum is still conserved to round-off, kinetic
+    /// energy is lost, not made, the dissipation booked is the loss, and friction adds to the
+    /// frictionless loss.
+    #[test]
+    fn friction_conserves_axial_momentum_and_dissipates() {
+        for lambda in [0.0f32, 0.2, 0.5, 1.0] {
+            // Slipping, then sticking.
+            let slipping = Setup::new(NOSE.0, NOSE.1, 0.6, 1e-4);
+            for (mu, start) in [(0.3, slipping), (1.0, nearly_sticking(0.6))] {
+                let mut s = start.clone();
+                let lost0 = one_hit(&mut start.clone(), lambda, 0.0).dissipated;
+                let (p0, e0) = (s.momentum(), s.kinetic());
+                let stats = one_hit(&mut s, lambda, mu);
+                let (p1, e1) = (s.momentum(), s.kinetic());
+                assert!(
+                    (p1[1] - p0[1]).abs() < 1e-6 * 0.5 * 310.0,
+                    "λ {lambda} μ {mu}: p_z {} → {}",
+                    p0[1],
+                    p1[1]
+                );
+                assert!(e1 <= e0, "λ {lambda} μ {mu}: KE {e0} → {e1}");
+                assert!(
+                    ((e0 - e1) - stats.dissipated).abs() < 1e-6 * e0,
+                    "λ {lambda} μ {mu}: lost {} J, booked {} J",
+                    e0 - e1,
+                    stats.dissipated
+                );
+                assert!(
+                    stats.dissipated > lost0,
+                    "λ {lambda} μ {mu}: friction dissipated nothing ({} vs {lost0})",
+                    stats.dissipated
+                );
+            }
+        }
+    }
+
+    /// A separating slave gets no friction either, however fast it slides.
+    #[test]
+    fn separating_slave_gets_no_friction() {
+        let mut s = Setup::new(NOSE.0, NOSE.1, 0.5, 1e-4);
+        // Away from the surface along n ≈ (0.894, −0.447), and sliding along t.
+        s.svr[0] = 500.0;
+        s.svz[0] = 300.0;
+        let (vr, vz) = (s.nvr.clone(), s.nvz.clone());
+        let stats = one_hit(&mut s, 0.2, 1.0);
+        assert_eq!(stats.closing, 0);
+        assert_eq!(stats.impulse_z, 0.0);
+        assert_eq!(
+            (s.nvr.clone(), s.nvz.clone(), s.svr[0], s.svz[0]),
+            (vr, vz, 500.0, 300.0)
         );
     }
 }
