@@ -26,6 +26,20 @@
 //! form of a kinematic contact). Without this, a node in lasting contact drifted a·Δt² per step
 //! further than the velocity that its elements' strain rate saw, and the projectile's plastic
 //! strain and damage grew in proportion to the step (docs/physics.md §4).
+//!
+//! With a Coulomb coefficient μ > 0 a closing hit then takes a tangential jump along the
+//! segment's unit tangent t = (B − A)/|AB|, from the relative tangential velocity
+//! Δ_t = (w_A v_A + w_B v_B − v_S)·t left by the normal jump, split the same way:
+//!
+//! ```text
+//! δ_t = clamp(Δ_t / [1 + λ m_S (w_A²/m_A + w_B²/m_B) + (1 − λ) m_S t_z² / M], −μ δ, μ δ)
+//! v_S += δ_t t,  v_A −= λ δ_t m_S w_A/m_A t,  v_B −= λ δ_t m_S w_B/m_B t,
+//! every node: v_z −= (1 − λ) δ_t m_S t_z / M
+//! ```
+//!
+//! Unclamped it stops the sliding (sticking); clamped, the tangential impulse m_S |δ_t| is μ
+//! times the normal one m_S δ (slipping). Either way it removes kinetic energy, booked with the
+//! normal step's in `dissipated`.
 
 use crate::mesh::MasterSegment;
 
@@ -56,7 +70,8 @@ pub struct ContactBodies<'a> {
 /// What one step's corrections did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CorrectionStats {
-    /// Kinetic energy lost in the inelastic normal collisions (J, ≥ 0 up to round-off).
+    /// Kinetic energy lost in the inelastic normal collisions and to friction (J, ≥ 0 up to
+    /// round-off).
     pub dissipated: f64,
     /// Hits that were closing (velocity corrected).
     pub closing: usize,
@@ -64,8 +79,9 @@ pub struct CorrectionStats {
     pub max_penetration: f32,
     /// Global velocity shift added to every node along z (m/s).
     pub global_shift: f32,
-    /// Axial impulse the hits gave the projectile, −Σ δ m_S n_z (N s; +z resists a flight
-    /// along −z): the local and the global parts of each hit together.
+    /// Axial impulse the hits gave the projectile, −Σ m_S (δ n_z + δ_t t_z) (N s; +z resists
+    /// a flight along −z): the local and the global parts of each hit together, friction's
+    /// included.
     pub impulse_z: f64,
     /// The part of `impulse_z` from hits on the nose's segments (N s).
     pub nose_impulse_z: f64,
@@ -73,34 +89,34 @@ pub struct CorrectionStats {
 
 /// Apply every hit in order (the caller passes them sorted by slave index). `on_nose[k]` says
 /// whether master `k` is on the nose: its hits' impulse is booked in `nose_impulse_z` too.
+/// `friction` is the Coulomb coefficient μ of the sliding surface (0: frictionless).
 pub fn correct(
     hits: &[Hit],
     masters: &[MasterSegment],
     on_nose: &[bool],
     b: &mut ContactBodies,
     lambda: f32,
+    friction: f32,
     total_mass: f64,
 ) -> CorrectionStats {
     let mut stats = CorrectionStats::default();
     if hits.is_empty() {
         return stats;
     }
-    let m_total = total_mass as f32;
     let dt = b.dt;
-    // Running global shift along z: node i's velocity is (vr, vz + shift) and its position
-    // (r, z + shift Δt) until it is applied.
-    let mut shift = 0.0f32;
-    // Projectile z-momentum with the shift included (f64: it is a sum over all nodes).
-    let mut p_z: f64 = (0..b.node_mass.len())
-        .map(|i| b.node_mass[i] as f64 * b.node_vz[i] as f64)
-        .sum();
-    let ke =
-        |m: f32, vr: f32, vz: f32| 0.5 * m as f64 * ((vr as f64).powi(2) + (vz as f64).powi(2));
+    let mut g = Global {
+        lambda,
+        total_mass,
+        shift: 0.0,
+        p_z: (0..b.node_mass.len())
+            .map(|i| b.node_mass[i] as f64 * b.node_vz[i] as f64)
+            .sum(),
+    };
     for hit in hits {
         let seg = masters[hit.master as usize];
         let (a, bn, s) = (seg.a as usize, seg.b as usize, hit.slave as usize);
-        let (ar, az) = (b.node_r[a], b.node_z[a] + shift * dt);
-        let (br, bz) = (b.node_r[bn], b.node_z[bn] + shift * dt);
+        let (ar, az) = (b.node_r[a], b.node_z[a] + g.shift * dt);
+        let (br, bz) = (b.node_r[bn], b.node_z[bn] + g.shift * dt);
         let (er, ez) = (br - ar, bz - az);
         let len2 = er * er + ez * ez;
         let len = len2.sqrt();
@@ -112,55 +128,39 @@ pub fn correct(
         b.slave_r[s] = foot_r;
         b.slave_z[s] = foot_z;
 
-        let (w_a, w_b) = (1.0 - t, t);
-        let v_a = [b.node_vr[a], b.node_vz[a] + shift];
-        let v_b = [b.node_vr[bn], b.node_vz[bn] + shift];
-        let v_s = [b.slave_vr[s], b.slave_vz[s]];
-        let dot = |v: [f32; 2]| v[0] * n[0] + v[1] * n[1];
-        let closing = w_a * dot(v_a) + w_b * dot(v_b) - dot(v_s);
+        let touch = Touch {
+            s,
+            a,
+            b: bn,
+            w_a: 1.0 - t,
+            w_b: t,
+            m_s: b.slave_mass[s],
+            m_a: b.node_mass[a],
+            m_b: b.node_mass[bn],
+            nose: on_nose[hit.master as usize],
+        };
+        let closing = touch.relative(b, &g, n);
         if closing.is_nan() || closing <= 0.0 {
             continue;
         }
         stats.closing += 1;
-        let (m_s, m_a, m_b) = (b.slave_mass[s], b.node_mass[a], b.node_mass[bn]);
-        let denom = 1.0
-            + lambda * m_s * (w_a * w_a / m_a + w_b * w_b / m_b)
-            + (1.0 - lambda) * m_s * n[1] * n[1] / m_total;
-        let delta = closing / denom;
-        let impulse = -(m_s as f64) * delta as f64 * n[1] as f64;
-        stats.impulse_z += impulse;
-        if on_nose[hit.master as usize] {
-            stats.nose_impulse_z += impulse;
+        let delta = closing / touch.denominator(&g, n[1]);
+        touch.kick(b, &mut g, &mut stats, n, delta);
+
+        // Coulomb friction: the tangential jump that would stop the sliding, at most μ times
+        // the normal one (physics.md §4, Coulomb friction). Skipped at μ = 0 so that the
+        // frictionless step stays what it was, bit for bit.
+        if friction > 0.0 {
+            let tan = [er / len, ez / len];
+            let cap = friction * delta;
+            let sliding = touch.relative(b, &g, tan);
+            let delta_t = (sliding / touch.denominator(&g, tan[1])).clamp(-cap, cap);
+            touch.kick(b, &mut g, &mut stats, tan, delta_t);
         }
-
-        let mut d_ke = -ke(m_s, v_s[0], v_s[1]);
-        b.slave_vr[s] += delta * n[0];
-        b.slave_vz[s] += delta * n[1];
-        d_ke += ke(m_s, b.slave_vr[s], b.slave_vz[s]);
-
-        for (node, w, m) in [(a, w_a, m_a), (bn, w_b, m_b)] {
-            let dv = -lambda * delta * m_s * w / m;
-            let before = [b.node_vr[node], b.node_vz[node] + shift];
-            // Axis nodes keep ṙ = 0: they take only the axial part.
-            if b.node_on_axis[node] == 0 {
-                b.node_vr[node] += dv * n[0];
-                b.node_r[node] += dv * n[0] * dt;
-            }
-            b.node_vz[node] += dv * n[1];
-            b.node_z[node] += dv * n[1] * dt;
-            let after = [b.node_vr[node], b.node_vz[node] + shift];
-            d_ke += ke(m, after[0], after[1]) - ke(m, before[0], before[1]);
-            p_z += m as f64 * (after[1] - before[1]) as f64;
-        }
-
-        let g = -(1.0 - lambda) * delta * m_s * n[1] / m_total;
-        d_ke += g as f64 * p_z + 0.5 * total_mass * (g as f64).powi(2);
-        p_z += total_mass * g as f64;
-        shift += g;
-        stats.dissipated -= d_ke;
-        b.slave_r[s] = w_a * b.node_r[a] + w_b * b.node_r[bn];
-        b.slave_z[s] = w_a * b.node_z[a] + w_b * b.node_z[bn] + shift * dt;
+        b.slave_r[s] = touch.w_a * b.node_r[a] + touch.w_b * b.node_r[bn];
+        b.slave_z[s] = touch.w_a * b.node_z[a] + touch.w_b * b.node_z[bn] + g.shift * dt;
     }
+    let shift = g.shift;
     if shift != 0.0 {
         for (v, z) in b.node_vz.iter_mut().zip(b.node_z.iter_mut()) {
             *v += shift;
@@ -171,12 +171,108 @@ pub fn correct(
     stats
 }
 
+/// The projectile as a whole while the step's hits are applied.
+struct Global {
+    lambda: f32,
+    /// Total projectile mass M (kg).
+    total_mass: f64,
+    /// Running global shift along z: node i's velocity is (vr, vz + shift) and its position
+    /// (r, z + shift Δt) until it is applied.
+    shift: f32,
+    /// Projectile z-momentum with the shift included (f64: it is a sum over all nodes).
+    p_z: f64,
+}
+
+/// One hit: slave `s` at weights `w_a`, `w_b` between the nodes `a` and `b`.
+struct Touch {
+    s: usize,
+    a: usize,
+    b: usize,
+    w_a: f32,
+    w_b: f32,
+    m_s: f32,
+    m_a: f32,
+    m_b: f32,
+    /// Whether the hit's master is on the nose (`nose_impulse_z`).
+    nose: bool,
+}
+
+impl Touch {
+    /// Relative velocity w_A v_A + w_B v_B − v_S along the unit vector `e` (shift included).
+    fn relative(&self, b: &ContactBodies, g: &Global, e: [f32; 2]) -> f32 {
+        let v_a = [b.node_vr[self.a], b.node_vz[self.a] + g.shift];
+        let v_b = [b.node_vr[self.b], b.node_vz[self.b] + g.shift];
+        let v_s = [b.slave_vr[self.s], b.slave_vz[self.s]];
+        let dot = |v: [f32; 2]| v[0] * e[0] + v[1] * e[1];
+        self.w_a * dot(v_a) + self.w_b * dot(v_b) - dot(v_s)
+    }
+
+    /// The slave's effective mass ratio along a unit vector whose z part is `e_z`: a jump δ
+    /// of the slave along it changes the relative velocity along it by δ times this.
+    fn denominator(&self, g: &Global, e_z: f32) -> f32 {
+        let (m_s, w_a, w_b) = (self.m_s, self.w_a, self.w_b);
+        1.0 + g.lambda * m_s * (w_a * w_a / self.m_a + w_b * w_b / self.m_b)
+            + (1.0 - g.lambda) * m_s * e_z * e_z / g.total_mass as f32
+    }
+
+    /// The slave's velocity jumps by `delta` along the unit vector `e`; the projectile takes
+    /// the opposite impulse, λ of it on A and B (positions moved by the change times Δt) and
+    /// the rest as the global shift along z. The kinetic energy lost and the axial impulse the
+    /// projectile received are booked in `stats`.
+    fn kick(
+        &self,
+        b: &mut ContactBodies,
+        g: &mut Global,
+        stats: &mut CorrectionStats,
+        e: [f32; 2],
+        delta: f32,
+    ) {
+        let (s, m_s, dt) = (self.s, self.m_s, b.dt);
+        let impulse = -(m_s as f64) * delta as f64 * e[1] as f64;
+        stats.impulse_z += impulse;
+        if self.nose {
+            stats.nose_impulse_z += impulse;
+        }
+        let mut d_ke = -ke(m_s, b.slave_vr[s], b.slave_vz[s]);
+        b.slave_vr[s] += delta * e[0];
+        b.slave_vz[s] += delta * e[1];
+        d_ke += ke(m_s, b.slave_vr[s], b.slave_vz[s]);
+
+        for (node, w, m) in [(self.a, self.w_a, self.m_a), (self.b, self.w_b, self.m_b)] {
+            let dv = -g.lambda * delta * m_s * w / m;
+            let before = [b.node_vr[node], b.node_vz[node] + g.shift];
+            // Axis nodes keep ṙ = 0: they take only the axial part.
+            if b.node_on_axis[node] == 0 {
+                b.node_vr[node] += dv * e[0];
+                b.node_r[node] += dv * e[0] * dt;
+            }
+            b.node_vz[node] += dv * e[1];
+            b.node_z[node] += dv * e[1] * dt;
+            let after = [b.node_vr[node], b.node_vz[node] + g.shift];
+            d_ke += ke(m, after[0], after[1]) - ke(m, before[0], before[1]);
+            g.p_z += m as f64 * (after[1] - before[1]) as f64;
+        }
+
+        let shift = -(1.0 - g.lambda) * delta * m_s * e[1] / g.total_mass as f32;
+        d_ke += shift as f64 * g.p_z + 0.5 * g.total_mass * (shift as f64).powi(2);
+        g.p_z += g.total_mass * shift as f64;
+        g.shift += shift;
+        stats.dissipated -= d_ke;
+    }
+}
+
+/// Kinetic energy of mass `m` at velocity (vr, vz) (J).
+fn ke(m: f32, vr: f32, vz: f32) -> f64 {
+    0.5 * m as f64 * ((vr as f64).powi(2) + (vz as f64).powi(2))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     /// A projectile of `extra` free nodes plus the segment A(0) → B(1) with outward normal n,
     /// and one slave just inside it. Returns (slave arrays, node arrays).
+    #[derive(Clone)]
     struct Setup {
         sr: Vec<f32>,
         sz: Vec<f32>,
@@ -279,6 +375,57 @@ mod tests {
         (1.0 - t) * dot(s.nvr[0], s.nvz[0]) + t * dot(s.nvr[1], s.nvz[1]) - dot(s.svr[0], s.svz[0])
     }
 
+    /// The unit normal and the unit tangent A → B of `at`'s segment.
+    fn frame(at: &Setup) -> ([f32; 2], [f32; 2]) {
+        let (er, ez) = (at.nr[1] - at.nr[0], at.nz[1] - at.nz[0]);
+        let len = er.hypot(ez);
+        ([ez / len, -er / len], [er / len, ez / len])
+    }
+
+    /// Relative tangential velocity (w_A v_A + w_B v_B − v_S)·t of `s` on `at`'s segment.
+    fn relative_tangential(s: &Setup, at: &Setup, t: f32) -> f32 {
+        let e = frame(at).1;
+        let dot = |vr: f32, vz: f32| vr * e[0] + vz * e[1];
+        (1.0 - t) * dot(s.nvr[0], s.nvz[0]) + t * dot(s.nvr[1], s.nvz[1]) - dot(s.svr[0], s.svz[0])
+    }
+
+    /// The slave's velocity jump from `at`, split into its normal and tangential parts (δ, δ_t).
+    fn slave_jump(s: &Setup, at: &Setup) -> (f32, f32) {
+        let (n, e) = frame(at);
+        let dv = [s.svr[0] - at.svr[0], s.svz[0] - at.svz[0]];
+        (dv[0] * n[0] + dv[1] * n[1], dv[0] * e[0] + dv[1] * e[1])
+    }
+
+    /// The nose segment of the tests, inclined (outward normal ≈ (0.894, −0.447), tangent
+    /// ≈ (0.447, 0.894)).
+    const NOSE: ([f32; 2], [f32; 2]) = ([0.001, -0.008], [0.004, -0.002]);
+
+    /// `correct` of the one hit of `s` at `lambda` and `friction`, on the nose.
+    fn one_hit(s: &mut Setup, lambda: f32, friction: f32) -> CorrectionStats {
+        let m = s.total_mass();
+        correct(
+            &[Hit {
+                slave: 0,
+                master: 0,
+            }],
+            &[SEG],
+            &[true],
+            &mut s.bodies(),
+            lambda,
+            friction,
+            m,
+        )
+    }
+
+    /// A slave that moves nearly with the nose along the surface while it closes on it: its
+    /// relative sliding (≈ −7 m/s) is about half its closing speed (≈ 15 m/s).
+    fn nearly_sticking(t: f32) -> Setup {
+        let mut s = Setup::new(NOSE.0, NOSE.1, t, 1e-4);
+        s.svr[0] = -10.0;
+        s.svz[0] = -290.0;
+        s
+    }
+
     /// One hit on an inclined segment: z-momentum conserved to f32 round-off, eq. (5) holds after
     /// the global shift, every node moves by its velocity change times the step, the slave ends
     /// on the moved segment, and energy is lost, not made.
@@ -303,6 +450,7 @@ mod tests {
                 &[on_nose],
                 &mut s.bodies(),
                 lambda,
+                0.0,
                 m,
             );
             let p1 = s.momentum();
@@ -375,6 +523,7 @@ mod tests {
             &[true],
             &mut s.bodies(),
             0.2,
+            0.0,
             m,
         );
         let p1 = s.momentum();
@@ -404,6 +553,7 @@ mod tests {
             &[SEG],
             &[true],
             &mut s.bodies(),
+            0.0,
             0.0,
             m,
         );
@@ -455,6 +605,7 @@ mod tests {
             &[true],
             &mut s.bodies(),
             1.0,
+            0.0,
             m,
         );
         let (er, ez) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
@@ -506,12 +657,142 @@ mod tests {
             &[true],
             &mut s.bodies(),
             0.2,
+            0.0,
             m,
         );
         assert_eq!(stats.closing, 0);
         assert_eq!(
             (s.nvr.clone(), s.nvz.clone(), s.svr[0], s.svz[0]),
             (vr, vz, 500.0, -500.0)
+        );
+    }
+
+    /// μ = 0 is the frictionless correction: the slave's jump is along the normal only, and the
+    /// relative sliding changes only through the global shift's tangential part.
+    #[test]
+    fn zero_friction_changes_no_tangential_slave_velocity() {
+        let t = 0.3;
+        let mut s = Setup::new(NOSE.0, NOSE.1, t, 1e-4);
+        let before = Setup::new(NOSE.0, NOSE.1, t, 1e-4);
+        one_hit(&mut s, 0.2, 0.0);
+        let (normal, tangential) = slave_jump(&s, &before);
+        assert!(normal > 0.0);
+        assert!(tangential.abs() < 1e-5 * normal, "{tangential} along t");
+    }
+
+    /// With μ large enough the slave sticks: no relative sliding after the hit, and the
+    /// tangential jump stays within μ times the normal one.
+    #[test]
+    fn large_friction_stops_the_sliding() {
+        for lambda in [0.0f32, 0.2, 1.0] {
+            let t = 0.3;
+            let mut s = nearly_sticking(t);
+            let before = nearly_sticking(t);
+            let sliding = relative_tangential(&before, &before, t);
+            assert!(sliding < -1.0, "the slave slides: {sliding}");
+            one_hit(&mut s, lambda, 1.0);
+            let after = relative_tangential(&s, &before, t);
+            assert!(
+                after.abs() < 1e-3,
+                "λ {lambda}: still sliding at {after} m/s"
+            );
+            let (delta, delta_t) = slave_jump(&s, &before);
+            assert!(
+                delta_t.abs() < delta,
+                "λ {lambda}: δ_t {delta_t} beyond μ δ {delta}"
+            );
+        }
+    }
+
+    /// With a small μ the slave slips: its tangential jump is μ times its normal one, against
+    /// its sliding along the surface, and on the nose the friction adds axial drag.
+    #[test]
+    fn small_friction_slips_at_mu_times_the_normal_impulse() {
+        let mu = 0.1;
+        for lambda in [0.0f32, 0.2, 1.0] {
+            let t = 0.3;
+            let before = nearly_sticking(t);
+            let mut frictionless = nearly_sticking(t);
+            let drag0 = one_hit(&mut frictionless, lambda, 0.0).impulse_z;
+            let mut s = nearly_sticking(t);
+            let stats = one_hit(&mut s, lambda, mu);
+            let (delta, delta_t) = slave_jump(&s, &before);
+            assert!(
+                (delta_t.abs() - mu * delta).abs() < 1e-4 * delta,
+                "λ {lambda}: |δ_t| {} vs μ δ {}",
+                delta_t.abs(),
+                mu * delta
+            );
+            // The slave slides at −(w_A v_A + w_B v_B − v_S)·t relative to the surface.
+            let slave_sliding = -relative_tangential(&before, &before, t);
+            assert!(delta_t * slave_sliding < 0.0, "λ {lambda}: δ_t {delta_t}");
+            // The normal jump is the frictionless one: friction comes after it.
+            let (delta0, _) = slave_jump(&frictionless, &before);
+            assert!(
+                (delta - delta0).abs() < 1e-5 * delta0,
+                "λ {lambda}: {delta} vs {delta0}"
+            );
+            let t_z = frame(&before).1[1] as f64;
+            let drag = stats.impulse_z - drag0;
+            let expected = -(s.sm[0] as f64) * delta_t as f64 * t_z;
+            assert!(
+                drag > 0.0 && (drag - expected).abs() < 1e-4 * expected,
+                "λ {lambda}: friction's axial impulse {drag} vs {expected}"
+            );
+            assert_eq!(stats.nose_impulse_z, stats.impulse_z);
+        }
+    }
+
+    /// With friction, sticking or slipping, z-momentum is still conserved to round-off, kinetic
+    /// energy is lost, not made, the dissipation booked is the loss, and friction adds to the
+    /// frictionless loss.
+    #[test]
+    fn friction_conserves_axial_momentum_and_dissipates() {
+        for lambda in [0.0f32, 0.2, 0.5, 1.0] {
+            // Slipping, then sticking.
+            let slipping = Setup::new(NOSE.0, NOSE.1, 0.6, 1e-4);
+            for (mu, start) in [(0.3, slipping), (1.0, nearly_sticking(0.6))] {
+                let mut s = start.clone();
+                let lost0 = one_hit(&mut start.clone(), lambda, 0.0).dissipated;
+                let (p0, e0) = (s.momentum(), s.kinetic());
+                let stats = one_hit(&mut s, lambda, mu);
+                let (p1, e1) = (s.momentum(), s.kinetic());
+                assert!(
+                    (p1[1] - p0[1]).abs() < 1e-6 * 0.5 * 310.0,
+                    "λ {lambda} μ {mu}: p_z {} → {}",
+                    p0[1],
+                    p1[1]
+                );
+                assert!(e1 <= e0, "λ {lambda} μ {mu}: KE {e0} → {e1}");
+                assert!(
+                    ((e0 - e1) - stats.dissipated).abs() < 1e-6 * e0,
+                    "λ {lambda} μ {mu}: lost {} J, booked {} J",
+                    e0 - e1,
+                    stats.dissipated
+                );
+                assert!(
+                    stats.dissipated > lost0,
+                    "λ {lambda} μ {mu}: friction dissipated nothing ({} vs {lost0})",
+                    stats.dissipated
+                );
+            }
+        }
+    }
+
+    /// A separating slave gets no friction either, however fast it slides.
+    #[test]
+    fn separating_slave_gets_no_friction() {
+        let mut s = Setup::new(NOSE.0, NOSE.1, 0.5, 1e-4);
+        // Away from the surface along n ≈ (0.894, −0.447), and sliding along t.
+        s.svr[0] = 500.0;
+        s.svz[0] = 300.0;
+        let (vr, vz) = (s.nvr.clone(), s.nvz.clone());
+        let stats = one_hit(&mut s, 0.2, 1.0);
+        assert_eq!(stats.closing, 0);
+        assert_eq!(stats.impulse_z, 0.0);
+        assert_eq!(
+            (s.nvr.clone(), s.nvz.clone(), s.svr[0], s.svz[0]),
+            (vr, vz, 500.0, 300.0)
         );
     }
 }

@@ -128,33 +128,41 @@ fn lambda_outside_unit_interval() {
     refused(&text, &[], &["contact.lambda = 1.5", "[0, 1]"]);
 }
 
-/// Friction is a scene key before the contact applies it: any other value than 0 is refused,
-/// never silently ignored.
+/// Friction is a Coulomb coefficient in [0, 1]: a negative, non-finite or larger value is
+/// refused naming the key, from the file and from `--set` alike; 0.3 is taken.
 #[test]
-fn friction_is_refused_until_implemented() {
-    let err = refused(
-        &smoke_text(),
-        &["contact.friction=0.3"],
-        &[
-            "contact.friction",
-            "friction is not implemented yet; only 0 is accepted",
-        ],
-    );
-    assert!(matches!(err, SceneError::BadOverride { .. }));
+fn friction_outside_unit_interval() {
+    for (bad, shown) in [("-0.1", "-0.1"), ("2.0", "2")] {
+        let err = refused(
+            &smoke_text(),
+            &[&format!("contact.friction={bad}")],
+            &["contact.friction", "[0, 1]"],
+        );
+        assert!(matches!(err, SceneError::BadOverride { .. }), "{err}");
+        let text = format!("{}\n[contact]\nfriction = {bad}\n", smoke_text());
+        let err = refused(
+            &text,
+            &[],
+            &[&format!("contact.friction = {shown}"), "must be in [0, 1]"],
+        );
+        assert!(matches!(err, SceneError::NonPhysical { .. }), "{err}");
+    }
+    for bad in ["nan", "inf"] {
+        refused(
+            &smoke_text(),
+            &[&format!("contact.friction={bad}")],
+            &["contact.friction", "finite"],
+        );
+        let text = format!("{}\n[contact]\nfriction = {bad}\n", smoke_text());
+        refused(&text, &[], &["contact.friction", "finite"]);
+    }
+    for (set, mu) in [("contact.friction=0.3", 0.3), ("contact.friction=0", 0.0)] {
+        let scene = parse_str(&smoke_text(), Path::new(ORIGIN), &[set.into()]);
+        assert_eq!(scene.unwrap().contact.friction, mu);
+    }
     let text = format!("{}\n[contact]\nfriction = 0.3\n", smoke_text());
-    let err = refused(&text, &[], &["contact.friction = 0.3", "not implemented"]);
-    assert!(matches!(err, SceneError::NonPhysical { .. }));
-    refused(
-        &smoke_text(),
-        &["contact.friction=2"],
-        &["contact.friction", "[0, 1]"],
-    );
-    let scene = parse_str(
-        &smoke_text(),
-        Path::new(ORIGIN),
-        &["contact.friction=0".into()],
-    );
-    assert_eq!(scene.unwrap().contact.friction, 0.0);
+    let scene = parse_str(&text, Path::new(ORIGIN), &[]).unwrap();
+    assert_eq!(scene.contact.friction, 0.3);
 }
 
 /// A target narrower than the projectile is an edge impact, not an error (the stability

@@ -248,6 +248,43 @@ fn lambda_zero_projectile_is_rigid() {
         .any(|p| p.starts_with("fem_stress")));
 }
 
+/// Coulomb friction at the sliding surface (μ = 0.3) drags on the nose: the smoke shot ends
+/// shallower and slower than the frictionless one, its contact takes a larger axial impulse,
+/// which is still the projectile's momentum change, and the energy balance still closes (the
+/// friction's loss is booked with the contact's).
+#[test]
+fn friction_slows_the_smoke_shot_and_keeps_the_energy_balance() {
+    let run = |mu: &str| {
+        let scene = scene::load(&case("smoke.toml"), &[format!("contact.friction={mu}")]).unwrap();
+        let out = scratch(&format!("friction-{mu}"));
+        let outcome = common::run_cpu(&scene, &out, false);
+        let _ = std::fs::remove_dir_all(&out);
+        assert!(outcome.ok, "μ {mu}: {}", outcome.summary.status);
+        (scene, outcome.summary)
+    };
+    let (_, smooth) = run("0");
+    let (scene, rough) = run("0.3");
+    assert!(
+        rough.depth_m < smooth.depth_m,
+        "depth {} m with friction, {} m without",
+        rough.depth_m,
+        smooth.depth_m
+    );
+    assert!(rough.projectile_velocity_m_s < smooth.projectile_velocity_m_s);
+    assert!(rough.contact_impulse_n_s > smooth.contact_impulse_n_s);
+    assert!(rough.energy.contact_dissipated > smooth.energy.contact_dissipated);
+    let change =
+        rough.projectile_mass_kg * (scene.projectile.velocity - rough.projectile_velocity_m_s);
+    assert!(
+        (rough.contact_impulse_n_s - change).abs() < 1e-3 * change,
+        "contact impulse {} N s against the momentum change {change} N s",
+        rough.contact_impulse_n_s
+    );
+    for s in [&smooth, &rough] {
+        assert!(s.energy_error.abs() < 0.01, "{}", s.energy_error);
+    }
+}
+
 /// The projectile's yielding is set by its load, not by the step: the smoke scene at 800 m/s
 /// to 0.1 ms at CFL 0.25 and 0.125 puts the same plastic work into the projectile to well
 /// within what a step-made share would change (halving the step would halve it). Before the

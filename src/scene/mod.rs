@@ -272,7 +272,7 @@ pub struct ContactSpec {
     pub lambda: f64,
     /// Slave preselection radius over the projectile's largest radius (k > 1).
     pub slave_radius_factor: f64,
-    /// Coulomb friction coefficient at the sliding surface; 0 until the contact applies it.
+    /// Coulomb friction coefficient μ at the sliding surface (0 = frictionless, as the paper).
     pub friction: f64,
 }
 

@@ -285,14 +285,6 @@ fn resolve_contact(c: &Check) -> Result<ContactSpec, SceneError> {
     let lambda = c.num(&k::CONTACT_LAMBDA)?;
     let slave_radius_factor = c.num(&k::CONTACT_SLAVE_RADIUS_FACTOR)?;
     let friction = c.num(&k::CONTACT_FRICTION)?;
-    // Refused rather than ignored: a scene asking for friction must not run without it.
-    if friction != 0.0 {
-        return Err(c.non_physical(
-            k::CONTACT_FRICTION.path,
-            friction,
-            "friction is not implemented yet; only 0 is accepted",
-        ));
-    }
     Ok(ContactSpec {
         lambda,
         slave_radius_factor,

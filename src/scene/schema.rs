@@ -696,9 +696,9 @@ schema! {
         help: "Slave preselection radius over the projectile's largest radius",
         show: |s| number(s.contact.slave_radius_factor) }
     CONTACT_FRICTION = "contact.friction" { default: DefaultValue::Number(0.0),
-        bounds: Range("[0, 1]"),
-        help: "Coulomb friction coefficient at the sliding surface (not yet applied by the \
-               contact: must be 0)",
+        bounds: Range("[0, 1]"), why: ": a Coulomb coefficient (0 = frictionless)",
+        help: "Coulomb friction coefficient μ at the sliding surface: a slave's tangential \
+               impulse is at most μ times its normal one (0 = frictionless, as the paper)",
         show: |s| number(s.contact.friction) }
 
     WALL_Z = "wall.z" { unit: "m", help: "The wall's plane z = wall.z",

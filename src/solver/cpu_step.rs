@@ -5,6 +5,7 @@ use super::{Account, Entity, Instability, Model, Pass, RunError, Stepper, Unstab
 use crate::contact::{self, ContactBodies, Hit};
 use crate::cpu;
 use crate::gpu::step::Sync;
+use crate::scene::ContactSpec;
 use crate::state::Projectile;
 
 /// The CPU reference path: every pass in plain Rust on the host's state, which is therefore
@@ -56,7 +57,7 @@ impl Model {
                         },
                         &mut self.projectile,
                         &self.on_nose,
-                        self.scene.contact.lambda as f32,
+                        &self.scene.contact,
                         dt,
                         &mut self.account,
                     );
@@ -228,14 +229,14 @@ pub(super) fn collapsed(dt: f32) -> bool {
     !(dt.is_finite() && dt > MIN_STEP)
 }
 
-/// The λ correction of `hits` (physics.md §4) on `slaves` and the projectile's nodes; its
-/// dissipation and deepest penetration are booked in `account`.
+/// The λ correction of `hits` (physics.md §4), with `law`'s λ and friction, on `slaves` and the
+/// projectile's nodes; its dissipation and deepest penetration are booked in `account`.
 pub(super) fn correct_contact(
     hits: &[Hit],
     slaves: Slaves<'_>,
     projectile: &mut Projectile,
     on_nose: &[bool],
-    lambda: f32,
+    law: &ContactSpec,
     dt: f32,
     account: &mut Account,
 ) {
@@ -259,7 +260,15 @@ pub(super) fn correct_contact(
         node_on_axis: &n.on_axis,
         dt,
     };
-    let stats = contact::correct(hits, masters, on_nose, &mut bodies, lambda, *total_mass);
+    let stats = contact::correct(
+        hits,
+        masters,
+        on_nose,
+        &mut bodies,
+        law.lambda as f32,
+        law.friction as f32,
+        *total_mass,
+    );
     account.contact_dissipated += stats.dissipated;
     account.contact_impulse += stats.impulse_z;
     account.nose_impulse += stats.nose_impulse_z;

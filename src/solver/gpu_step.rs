@@ -120,7 +120,7 @@ impl Model {
                     },
                     &mut self.projectile,
                     &self.on_nose,
-                    self.scene.contact.lambda as f32,
+                    &self.scene.contact,
                     dt,
                     &mut self.account,
                 );
