@@ -384,6 +384,34 @@ pub fn plan_sweep(
     settings: &RunSettings,
     out: &Path,
 ) -> Result<Vec<Planned>, SweepError> {
+    let specs = sweep_specs(case, vary, set, backend, out)?;
+    if let Some(first) = specs.first() {
+        check_backend(first.backend, settings.adapter.as_deref())?;
+    }
+    plan(specs)
+}
+
+/// The runs [`plan_sweep`] plans, the same values, scenes and folders, without opening the
+/// backend: for a sweep that runs on other machines (`--emit`), which open it themselves.
+pub fn plan_members(
+    case: &Path,
+    vary: &Vary,
+    set: &[String],
+    backend: Option<Backend>,
+    out: &Path,
+) -> Result<Vec<Planned>, SweepError> {
+    plan(sweep_specs(case, vary, set, backend, out)?)
+}
+
+/// The run of each value of `vary`, its scene not yet loaded; the base scene is, for its
+/// `run.backend` and so that a bad `--set` is named once rather than per run.
+fn sweep_specs(
+    case: &Path,
+    vary: &Vary,
+    set: &[String],
+    backend: Option<Backend>,
+    out: &Path,
+) -> Result<Vec<RunSpec>, SweepError> {
     if let Some(clash) = set.iter().find(|s| vary.clashes_with(s)) {
         return Err(SweepError::Spec(format!(
             "--set {clash}: sets what --vary {} sweeps, whose values would replace it in every \
@@ -393,8 +421,7 @@ pub fn plan_sweep(
     }
     let base = scene::load(case, set).map_err(SweepError::Scene)?;
     let backend = backend.unwrap_or(base.run.backend);
-    check_backend(backend, settings.adapter.as_deref())?;
-    let specs = vary
+    Ok(vary
         .values
         .iter()
         .map(|&v| {
@@ -408,8 +435,7 @@ pub fn plan_sweep(
                 dir: out.join(vary.label(v)),
             }
         })
-        .collect();
-    plan(specs)
+        .collect())
 }
 
 /// Runs a planned sweep (`plan_sweep`) and writes `out/sweep.csv`.
@@ -485,8 +511,9 @@ fn summary_fields(r: &RunRecord) -> Vec<String> {
     }
 }
 
-/// `sweep.csv`: the varied value and the summary fields of each run, to `path`.
-fn write_sweep_csv(
+/// `sweep.csv`: the varied value and the summary fields of each run, to `path` (the in-process
+/// sweep's and `--collect`'s).
+pub(crate) fn write_sweep_csv(
     path: &Path,
     vary: &Vary,
     records: &[RunRecord],
