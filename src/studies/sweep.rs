@@ -1,6 +1,8 @@
 //! `penetrate sweep`: one scene run over a range of one key's values (`--vary key=a:b:step`), in
 //! process, each run in its own directory and one `sweep.csv` row per run. The validation
-//! ([`super::validate`]) runs its studies through the same [`plan`] and [`run_set`].
+//! ([`super::validate`]) runs its studies through the same [`plan`] and [`run_set`]; a sweep
+//! run by a cluster's scheduler ([`super::slurm`]) is planned by [`plan_members`] and its
+//! `sweep.csv` written by the same [`write_sweep_csv`].
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -123,6 +125,8 @@ pub enum SweepError {
     Scene(SceneError),
     /// The backend asked for cannot run (no GPU adapter).
     Backend(String),
+    /// A folder `--emit` may not write into, or one `--collect` finds no emitted sweep in.
+    Folder(String),
     /// Output could not be written.
     Io(String),
     /// Ctrl-C or SIGTERM stopped the sweep ([`crate::interrupt`]).
@@ -145,6 +149,7 @@ impl fmt::Display for SweepError {
         match self {
             SweepError::Spec(m)
             | SweepError::Backend(m)
+            | SweepError::Folder(m)
             | SweepError::Io(m)
             | SweepError::Interrupted(m) => f.write_str(m),
             SweepError::Scene(e) => write!(f, "{e}"),
