@@ -1,7 +1,8 @@
 //! The commands that run many scenes: `bench`, `check-stability`, `sweep` and `validate`
 //! ([`crate::studies`]).
 
-use std::path::PathBuf;
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
@@ -54,15 +55,17 @@ pub struct StabilityArgs {
     out: PathBuf,
 }
 
-/// `penetrate sweep`'s arguments.
+/// `penetrate sweep`'s arguments: a sweep run here, one written for a cluster's scheduler to
+/// run (`--emit slurm DIR`), or the collection of one that ran there (`--collect DIR`).
 #[derive(Args)]
 pub struct SweepArgs {
     /// Scene file (cases/*.toml).
-    case: PathBuf,
+    #[arg(required_unless_present = "collect")]
+    case: Option<PathBuf>,
     /// The key and its values A, A + STEP, … up to B inclusive, e.g.
     /// --vary projectile.velocity=200:800:100.
-    #[arg(long, value_name = "KEY=A:B:STEP")]
-    vary: String,
+    #[arg(long, value_name = "KEY=A:B:STEP", required_unless_present = "collect")]
+    vary: Option<String>,
     /// Override a scene value in every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
@@ -74,11 +77,40 @@ pub struct SweepArgs {
     adapter: Option<String>,
     /// Output directory: sweep.csv and one run directory per value [default:
     /// runs/<case>-<key's last part>].
-    #[arg(long)]
+    #[arg(long, conflicts_with = "emit")]
     out: Option<PathBuf>,
     /// Do not write VTK frames.
     #[arg(long)]
     no_vtk: bool,
+    /// Run nothing: write into DIR one scene per run, members.csv and sweep.sbatch, a Slurm
+    /// job array of the runs (`--emit slurm DIR`; submit with `sbatch DIR/sweep.sbatch`).
+    #[arg(long, num_args = 2, value_names = ["SCHEDULER", "DIR"])]
+    emit: Option<Vec<OsString>>,
+    /// With --emit: the runs each array task makes one after the other [default: 1].
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "emit",
+        value_parser = clap::value_parser!(u32).range(1..)
+    )]
+    members_per_task: Option<u32>,
+    /// With --emit: extra #SBATCH options, e.g. --sbatch "--partition=gpu --gres=gpu:1"
+    /// (repeatable; each word one line).
+    #[arg(
+        long,
+        value_name = "OPTIONS",
+        allow_hyphen_values = true,
+        requires = "emit"
+    )]
+    sbatch: Vec<String>,
+    /// Merge the summaries of the sweep emitted into DIR into DIR/sweep.csv, naming the runs
+    /// that are missing or did not complete.
+    #[arg(
+        long,
+        value_name = "DIR",
+        conflicts_with_all = ["case", "vary", "set", "backend", "adapter", "out", "no_vtk", "emit"]
+    )]
+    collect: Option<PathBuf>,
 }
 
 /// `penetrate validate`'s arguments.
@@ -206,7 +238,8 @@ pub fn check_stability(args: StabilityArgs) -> ExitCode {
     }
 }
 
-/// Runs the sweep, one progress line per run: 0 when every run completed, else 1.
+/// Runs the sweep, one progress line per run, writes it for Slurm (`--emit`), or collects
+/// what Slurm ran (`--collect`): 0 when every run completed (or the sweep was written), else 1.
 pub fn sweep(args: SweepArgs) -> ExitCode {
     let SweepArgs {
         case,
@@ -216,11 +249,38 @@ pub fn sweep(args: SweepArgs) -> ExitCode {
         adapter,
         out,
         no_vtk,
+        emit,
+        members_per_task,
+        sbatch,
+        collect,
     } = args;
+    if let Some(dir) = collect {
+        return sweep_collect(&dir);
+    }
+    let (Some(case), Some(vary)) = (case, vary) else {
+        return fail(2, "sweep: give CASE and --vary, or --collect DIR");
+    };
     let vary = match studies::sweep::Vary::parse(&vary) {
         Ok(v) => v,
         Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
     };
+    if let Some(emit) = emit {
+        let per_task = members_per_task.map_or(1, |n| n as usize);
+        let opts = studies::slurm::EmitOptions {
+            // As given: `auto` is for the node that runs to resolve.
+            backend: backend.map(Into::into),
+            adapter,
+            vtk: !no_vtk,
+            per_task,
+            sbatch,
+            job_name: job_name(&case, &vary),
+            penetrate: std::env::current_exe()
+                .ok()
+                .and_then(|p| p.to_str().map(String::from))
+                .unwrap_or_else(|| "penetrate".into()),
+        };
+        return sweep_emit(&case, &vary, &set, &emit, &opts);
+    }
     let backend = backend.map(|b| backends(b, adapter.as_deref(), "sweep")[0]);
     let out = out.unwrap_or_else(|| studies::sweep::default_out(&case, &vary));
     let settings = studies::sweep::RunSettings {
@@ -259,6 +319,130 @@ pub fn sweep(args: SweepArgs) -> ExitCode {
             }
         }
         Err(e) => fail(e.exit_code(), &format!("sweep: {e}")),
+    }
+}
+
+/// The Slurm job's name: `penetrate-` and the in-process sweep's default folder name.
+fn job_name(case: &Path, vary: &studies::sweep::Vary) -> String {
+    let out = studies::sweep::default_out(case, vary);
+    let name = out.file_name().map(|n| n.to_string_lossy().into_owned());
+    format!("penetrate-{}", name.unwrap_or_default())
+}
+
+/// `--emit SCHEDULER DIR`: plans the sweep as a run here would, writes it for the scheduler and
+/// says how to submit and collect it.
+fn sweep_emit(
+    case: &Path,
+    vary: &studies::sweep::Vary,
+    set: &[String],
+    emit: &[OsString],
+    opts: &studies::slurm::EmitOptions,
+) -> ExitCode {
+    let [scheduler, dir] = emit else {
+        return fail(2, "sweep: --emit takes two values: --emit slurm DIR");
+    };
+    if scheduler != "slurm" {
+        return fail(
+            2,
+            &format!(
+                "sweep: --emit {}: unknown scheduler; `--emit slurm DIR` is the one written",
+                scheduler.to_string_lossy()
+            ),
+        );
+    }
+    let dir = PathBuf::from(dir);
+    let planned = match studies::sweep::plan_members(case, vary, set, opts.backend, &dir) {
+        Ok(p) => p,
+        Err(e) => return fail(e.exit_code(), &format!("sweep: {e}")),
+    };
+    match studies::slurm::emit(&planned, vary, opts, &dir) {
+        Ok(e) => {
+            eprintln!(
+                "penetrate sweep: {} runs of {} over {}, written for Slurm: array tasks 0-{}",
+                e.members,
+                case.display(),
+                vary.key,
+                e.tasks - 1
+            );
+            say!("{}/: {} scenes", e.scenes.display(), e.members);
+            say!("{}", e.manifest.display());
+            say!("{}", e.script.display());
+            say!("submit with:  sbatch {}", e.script.display());
+            say!("then collect: penetrate sweep --collect {}", dir.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(e.exit_code(), &format!("sweep: {e}")),
+    }
+}
+
+/// `--collect DIR`: writes DIR/sweep.csv and names the members without a completed run: 0 when
+/// every member completed on one build, else 1.
+fn sweep_collect(dir: &Path) -> ExitCode {
+    let c = match studies::slurm::collect(dir) {
+        Ok(c) => c,
+        Err(e) => return fail(e.exit_code(), &format!("sweep --collect: {e}")),
+    };
+    for u in &c.missing {
+        eprintln!("missing: {} (array task {}): {}", u.label, u.task, u.why);
+    }
+    for u in &c.failed {
+        eprintln!("failed: {} (array task {}): {}", u.label, u.task, u.why);
+    }
+    if c.builds.len() > 1 {
+        for (build, labels) in &c.builds {
+            let build = if build.is_empty() {
+                "an unnamed build"
+            } else {
+                build
+            };
+            eprintln!("ran on {build}: {}", labels.join(", "));
+        }
+    }
+    let completed: usize = c.builds.values().map(Vec::len).sum();
+    eprintln!(
+        "penetrate sweep --collect: {} members over {}: {completed} completed, {} missing, {} \
+         failed",
+        c.members,
+        c.key,
+        c.missing.len(),
+        c.failed.len()
+    );
+    say!("{}", c.csv.display());
+    if c.complete() {
+        return ExitCode::SUCCESS;
+    }
+    let script = dir.join(studies::slurm::SCRIPT);
+    let tasks = c.tasks_to_rerun();
+    let rerun = match tasks.is_empty() {
+        true => String::new(),
+        false => {
+            let list: Vec<String> = tasks.iter().map(usize::to_string).collect();
+            format!(
+                "; rerun their array tasks with `sbatch --array={} {}`, then collect again",
+                list.join(","),
+                script.display()
+            )
+        }
+    };
+    let unfinished = c.missing.len() + c.failed.len();
+    if unfinished > 0 {
+        fail(
+            1,
+            &format!(
+                "sweep --collect: {unfinished} of {} members did not complete{rerun}",
+                c.members
+            ),
+        )
+    } else {
+        fail(
+            1,
+            &format!(
+                "sweep --collect: the members ran on {} builds of penetrate (above), not one; \
+                 rerun the odd ones with one build (`PENETRATE=… sbatch --array=… {}`)",
+                c.builds.len(),
+                script.display()
+            ),
+        )
     }
 }
 

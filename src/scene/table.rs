@@ -127,6 +127,22 @@ mod tests {
         }
     }
 
+    /// The table is a scene file too: `penetrate run` of a run's `scene.toml` (or of a member
+    /// of `sweep --emit`) runs the very scene, wherever the file lies.
+    #[test]
+    fn resolved_table_read_as_a_scene_file_reproduces_every_case() {
+        for path in shipped_cases() {
+            let scene = load(&path, &[]).unwrap();
+            let elsewhere = Path::new("/elsewhere/scene.toml");
+            let mut again = crate::scene::parse_str(&scene.resolved_table(), elsewhere, &[])
+                .unwrap_or_else(|e| panic!("{path:?}: {e}"));
+            // Where it was read from, the one field no run reads.
+            assert_eq!(again.path, elsewhere);
+            again.path = scene.path.clone();
+            assert_eq!(again, scene, "{path:?}");
+        }
+    }
+
     /// docs/scene-reference.md is the schema's text; `PENETRATE_BLESS=1` rewrites it.
     #[test]
     fn scene_reference_is_generated() {

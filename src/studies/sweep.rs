@@ -1,6 +1,8 @@
 //! `penetrate sweep`: one scene run over a range of one key's values (`--vary key=a:b:step`), in
 //! process, each run in its own directory and one `sweep.csv` row per run. The validation
-//! ([`super::validate`]) runs its studies through the same [`plan`] and [`run_set`].
+//! ([`super::validate`]) runs its studies through the same [`plan`] and [`run_set`]; a sweep
+//! run by a cluster's scheduler ([`super::slurm`]) is planned by [`plan_members`] and its
+//! `sweep.csv` written by the same [`write_sweep_csv`].
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -123,6 +125,8 @@ pub enum SweepError {
     Scene(SceneError),
     /// The backend asked for cannot run (no GPU adapter).
     Backend(String),
+    /// A folder `--emit` may not write into, or one `--collect` finds no emitted sweep in.
+    Folder(String),
     /// Output could not be written.
     Io(String),
     /// Ctrl-C or SIGTERM stopped the sweep ([`crate::interrupt`]).
@@ -145,6 +149,7 @@ impl fmt::Display for SweepError {
         match self {
             SweepError::Spec(m)
             | SweepError::Backend(m)
+            | SweepError::Folder(m)
             | SweepError::Io(m)
             | SweepError::Interrupted(m) => f.write_str(m),
             SweepError::Scene(e) => write!(f, "{e}"),
@@ -284,13 +289,63 @@ pub fn run_set(
     Ok(records)
 }
 
+/// Why a run folder holds no summary of the run asked for ([`summary_left`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoSummary {
+    /// No `summary.json`: the run has not started, is under way, or was killed.
+    Missing,
+    /// Its `scene.toml` is missing or lists other values than the scene asked for: the folder
+    /// holds another run.
+    OtherScene,
+    /// `summary.json` is not a run's summary, or its numbers could not come from a run
+    /// ([`Summary::is_plausible`]); says which.
+    Damaged(String),
+}
+
+/// The summary that a run of exactly `scene` left in `dir`, however it ended: its `scene.toml`
+/// must list the same resolved values (comment and blank lines aside), and its `summary.json`
+/// must read back as a plausible summary. Both files are a few kB; one over the scene limit is
+/// not a run's (nor read on: a path such as /dev/zero never ends).
+pub fn summary_left(dir: &Path, scene: &Scene) -> Result<Summary, NoSummary> {
+    let settings = |text: &str| -> Vec<String> {
+        text.lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .map(String::from)
+            .collect()
+    };
+    let small = |name: &str| -> Result<String, String> {
+        match scene::read_capped(&dir.join(name), scene::SCENE_FILE_LIMIT) {
+            Ok(Some(bytes)) => String::from_utf8(bytes).map_err(|_| "is not UTF-8 text".into()),
+            Ok(None) => Err("is too large for a run's file".into()),
+            Err(e) => Err(format!("cannot be read ({e})")),
+        }
+    };
+    let json = match small("summary.json") {
+        Err(_) if !dir.join("summary.json").exists() => return Err(NoSummary::Missing),
+        Err(why) => return Err(NoSummary::Damaged(format!("summary.json {why}"))),
+        Ok(json) => json,
+    };
+    let written = small(solver::SCENE_FILE).map_err(|_| NoSummary::OtherScene)?;
+    if settings(&written) != settings(&scene.resolved_table()) {
+        return Err(NoSummary::OtherScene);
+    }
+    let summary: Summary = serde_json::from_str(&json)
+        .map_err(|e| NoSummary::Damaged(format!("summary.json is not a run's summary ({e})")))?;
+    if !summary.is_plausible() {
+        return Err(NoSummary::Damaged(
+            "summary.json holds numbers no run gives (edited or damaged)".into(),
+        ));
+    }
+    Ok(summary)
+}
+
 /// The summary of a completed run of exactly `scene` on `backend` left in `dir` by an earlier
-/// process, for `penetrate validate --resume`: its `scene.toml` must list the same resolved
-/// values (comment and blank lines aside), its `summary.json` must say `completed` on the same
-/// backend (a GPU run: on the adapter named `gpu_adapter`, as its summary names it), and with
-/// `vtk` its frames must be there, and it must name this very build of the solver
-/// (`solver_build`, [`build_id`](crate::output::summary::build_id)) or one whose fingerprint is
-/// in `other_builds` (builds the caller vouches for by name).
+/// process, for `penetrate validate --resume`: [`summary_left`] must find it, it must say
+/// `completed` on the same backend (a GPU run: on the adapter named `gpu_adapter`, as its
+/// summary names it), with `vtk` its frames must be there, and it must name this very build of
+/// the solver (`solver_build`, [`build_id`](crate::output::summary::build_id)) or one whose
+/// fingerprint is in `other_builds` (builds the caller vouches for by name).
 pub fn completed_run(
     dir: &Path,
     scene: &Scene,
@@ -299,30 +354,12 @@ pub fn completed_run(
     vtk: bool,
     other_builds: &[String],
 ) -> Option<Summary> {
-    let settings = |text: &str| -> Vec<String> {
-        text.lines()
-            .map(str::trim)
-            .filter(|l| !l.is_empty() && !l.starts_with('#'))
-            .map(String::from)
-            .collect()
-    };
-    // Both files are a few kB; anything over the scene limit is not a run's (nor read on).
-    let small = |name: &str| {
-        let bytes = scene::read_capped(&dir.join(name), scene::SCENE_FILE_LIMIT).ok()??;
-        String::from_utf8(bytes).ok()
-    };
-    let written = small(solver::SCENE_FILE)?;
-    if settings(&written) != settings(&scene.resolved_table()) {
-        return None;
-    }
+    let summary = summary_left(dir, scene).ok()?;
     if vtk && !dir.join("frames.pvd").is_file() {
         return None;
     }
-    let json = small("summary.json")?;
-    let summary: Summary = serde_json::from_str(&json).ok()?;
     let same_adapter = backend != Backend::Gpu || gpu_adapter == Some(summary.adapter.as_str());
     (summary.status == "completed"
-        && summary.is_plausible()
         && summary.backend == backend.name()
         && same_adapter
         && (same_build(&summary.solver_build)
@@ -352,6 +389,34 @@ pub fn plan_sweep(
     settings: &RunSettings,
     out: &Path,
 ) -> Result<Vec<Planned>, SweepError> {
+    let specs = sweep_specs(case, vary, set, backend, out)?;
+    if let Some(first) = specs.first() {
+        check_backend(first.backend, settings.adapter.as_deref())?;
+    }
+    plan(specs)
+}
+
+/// The runs [`plan_sweep`] plans, the same values, scenes and folders, without opening the
+/// backend: for a sweep that runs on other machines (`--emit`), which open it themselves.
+pub fn plan_members(
+    case: &Path,
+    vary: &Vary,
+    set: &[String],
+    backend: Option<Backend>,
+    out: &Path,
+) -> Result<Vec<Planned>, SweepError> {
+    plan(sweep_specs(case, vary, set, backend, out)?)
+}
+
+/// The run of each value of `vary`, its scene not yet loaded; the base scene is, for its
+/// `run.backend` and so that a bad `--set` is named once rather than per run.
+fn sweep_specs(
+    case: &Path,
+    vary: &Vary,
+    set: &[String],
+    backend: Option<Backend>,
+    out: &Path,
+) -> Result<Vec<RunSpec>, SweepError> {
     if let Some(clash) = set.iter().find(|s| vary.clashes_with(s)) {
         return Err(SweepError::Spec(format!(
             "--set {clash}: sets what --vary {} sweeps, whose values would replace it in every \
@@ -361,8 +426,7 @@ pub fn plan_sweep(
     }
     let base = scene::load(case, set).map_err(SweepError::Scene)?;
     let backend = backend.unwrap_or(base.run.backend);
-    check_backend(backend, settings.adapter.as_deref())?;
-    let specs = vary
+    Ok(vary
         .values
         .iter()
         .map(|&v| {
@@ -376,8 +440,7 @@ pub fn plan_sweep(
                 dir: out.join(vary.label(v)),
             }
         })
-        .collect();
-    plan(specs)
+        .collect())
 }
 
 /// Runs a planned sweep (`plan_sweep`) and writes `out/sweep.csv`.
@@ -453,8 +516,13 @@ fn summary_fields(r: &RunRecord) -> Vec<String> {
     }
 }
 
-/// `sweep.csv`: the varied value and the summary fields of each run, to `path`.
-fn write_sweep_csv(path: &Path, vary: &Vary, records: &[RunRecord]) -> std::io::Result<()> {
+/// `sweep.csv`: the varied value and the summary fields of each run, to `path` (the in-process
+/// sweep's and `--collect`'s).
+pub(crate) fn write_sweep_csv(
+    path: &Path,
+    vary: &Vary,
+    records: &[RunRecord],
+) -> std::io::Result<()> {
     let mut header = vec![vary.key.clone()];
     header.extend(SUMMARY_COLUMNS.iter().map(|c| c.to_string()));
     let rows: Vec<Vec<String>> = vary
