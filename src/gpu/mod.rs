@@ -25,6 +25,7 @@ pub mod sph_rates;
 pub mod state;
 pub mod step;
 pub mod timestep;
+pub mod traffic;
 
 use std::sync::{Arc, Mutex};
 
@@ -127,6 +128,8 @@ pub struct Gpu {
     errors: Arc<Mutex<Vec<String>>>,
     /// Bytes of buffers created through `buffer`, `zeros` and `uniform`.
     allocated: std::sync::atomic::AtomicU64,
+    /// Waits, bytes read back and bytes written so far (`traffic`).
+    pub traffic: traffic::Counters,
 }
 
 /// How a shader binding is used.
@@ -215,6 +218,7 @@ impl Gpu {
             ),
             errors,
             allocated: Default::default(),
+            traffic: Default::default(),
         })
     }
 
@@ -330,14 +334,17 @@ impl Gpu {
         bytes
             .write(value)
             .expect("encase writes into a growable Vec");
-        self.queue.write_buffer(buffer, 0, &bytes.into_inner());
+        let bytes = bytes.into_inner();
+        self.traffic.written(bytes.len() as u64);
+        self.queue.write_buffer(buffer, 0, &bytes);
     }
 
     /// Overwrite the start of a storage buffer.
     pub fn write<T: Pod>(&self, buffer: &wgpu::Buffer, data: &[T]) {
         if !data.is_empty() {
-            self.queue
-                .write_buffer(buffer, 0, bytemuck::cast_slice(data));
+            let bytes: &[u8] = bytemuck::cast_slice(data);
+            self.traffic.written(bytes.len() as u64);
+            self.queue.write_buffer(buffer, 0, bytes);
         }
     }
 
@@ -363,6 +370,15 @@ impl Gpu {
         Ok(bytemuck::pod_collect_to_vec(&out))
     }
 
+    /// Block until the GPU has done all that was submitted (one round trip, counted).
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.traffic.wait();
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
+        Ok(())
+    }
+
     /// Map a MAP_READ buffer, copy out its first `bytes` bytes and unmap it.
     pub fn map_read(&self, staging: &wgpu::Buffer, bytes: usize) -> Result<Vec<u8>, GpuError> {
         let slice = staging.slice(..(bytes as u64).next_multiple_of(4));
@@ -370,9 +386,8 @@ impl Gpu {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
+        self.wait()?;
+        self.traffic.read(bytes as u64);
         match rx.recv() {
             Ok(Ok(())) => {}
             Ok(Err(e)) => return Err(GpuError::Device(format!("GPU read-back failed: {e}"))),
@@ -588,9 +603,7 @@ pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Resul
         record(&mut pass);
     }
     gpu.queue.submit([encoder.finish()]);
-    gpu.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
+    gpu.wait()?;
     match gpu.take_error() {
         Some(e) => Err(GpuError::Device(format!("GPU error: {e}"))),
         None => Ok(()),

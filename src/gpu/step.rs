@@ -31,6 +31,7 @@ use super::params::{FemUniform, SphUniform, StepUniform};
 use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
+use super::traffic::{Charge, Tally, Traffic};
 use super::{Gpu, GpuError};
 use crate::pass::Pass;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
@@ -118,6 +119,10 @@ pub struct GpuStep {
     pub host: HostSeconds,
     /// Timestamps between passes (`bench`), where the adapter has them.
     profiler: Option<Profiler>,
+    /// The transfers of the steps and the reads so far (summary.json's `gpu_transfers`), and
+    /// the device's counts when they were last charged.
+    pub traffic: Traffic,
+    seen: Tally,
 }
 
 /// Host wall time of the steps' `advance` calls, summed: recording the command buffer, the
@@ -362,6 +367,8 @@ impl GpuStep {
             builds: 0,
             host: HostSeconds::default(),
             profiler: None,
+            traffic: Traffic::default(),
+            seen: Tally::default(),
         })
     }
 
@@ -406,6 +413,17 @@ impl GpuStep {
         if let Some(p) = &self.profiler {
             p.mark(pass, slot);
         }
+    }
+
+    /// Charge the transfers since the last charge to `to` (None: to nothing, as what `bench`
+    /// or a test reads between steps); `call` counts one more call of it.
+    fn charge(&mut self, to: Option<Charge>, call: bool) {
+        let now = self.gpu.traffic.now();
+        if let Some(to) = to {
+            self.traffic
+                .charge(to, Tally::between(self.seen, now), call);
+        }
+        self.seen = now;
     }
 
     /// Build the neighbour lists in the next step whatever the particles did (`bench`).
@@ -506,6 +524,7 @@ impl GpuStep {
 
     /// Advance one step up to the contact correction and read back what the host needs.
     pub fn advance(&mut self) -> Result<Readback, GpuError> {
+        self.charge(None, false);
         let start = Instant::now();
         let build = self.pending_forces && self.lists_stale();
         let mut encoder = self
@@ -621,6 +640,7 @@ impl GpuStep {
                 rb.hit_data = self.gpu.read::<[f32; 4]>(&c.hit_data, count)?;
             }
         }
+        self.charge(Some(Charge::Step), true);
         Ok(rb)
     }
 
@@ -636,6 +656,7 @@ impl GpuStep {
         self.gpu.write(&self.nodes.z, &nodes.z);
         self.gpu.write(&self.nodes.vr, &nodes.vr);
         self.gpu.write(&self.nodes.vz, &nodes.vz);
+        self.charge(Some(Charge::Step), false);
     }
 
     /// Finish the step and read the state back into the CPU structures, with the accumulated
@@ -649,6 +670,7 @@ impl GpuStep {
         projectile: &mut Projectile,
         what: Sync,
     ) -> Result<Totals, GpuError> {
+        self.charge(None, false);
         self.flush()?;
         if let Some(s) = &self.sph {
             let g = &self.gpu;
@@ -673,7 +695,7 @@ impl GpuStep {
         let n_p = particles.len();
         let n_n = projectile.nodes.len();
         let clock: Vec<u32> = self.gpu.read(&self.clock, 2)?;
-        Ok(Totals {
+        let totals = Totals {
             boundary_impulse: sum(self.gpu.read(&self.acc.particle_impulse, n_p)?)
                 + sum(self.gpu.read(&self.acc.node_impulse, n_n)?),
             wall_lost: sum(self.gpu.read(&self.acc.node_lost, n_n)?),
@@ -681,7 +703,13 @@ impl GpuStep {
                 .gpu
                 .read(&self.plastic_total, projectile.elements.len())?),
             next_dt: f32::from_bits(clock[0]),
-        })
+        };
+        let to = match what {
+            Sync::Full => Charge::Full,
+            Sync::History => Charge::History,
+        };
+        self.charge(Some(to), true);
+        Ok(totals)
     }
 
     /// Where a status word says the step went wrong, the message (entity, reason).
