@@ -14,8 +14,9 @@
 //! positions and velocities; the host applies the λ correction and the global shift
 //! (physics.md §4, `contact::correct`) and writes the corrected slaves and nodes for the next
 //! submission, which builds the neighbour lists again only when a particle may have moved half
-//! the lists' skin (`LIST_SKIN`). `flush` runs a pending second half alone, so that the GPU
-//! state is the CPU's after the same number of `Simulation::step` calls (for outputs).
+//! the lists' skin (`LIST_SKIN`). `download` runs a pending second half and then copies what
+//! it reads, all in one submission waited for once, so that the GPU state is the CPU's after
+//! the same number of `Simulation::step` calls (for outputs).
 
 use std::time::Instant;
 
@@ -32,6 +33,7 @@ use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
 use super::traffic::{Charge, Tally, Traffic};
+use super::ReadBatch;
 use super::{Gpu, GpuError};
 use crate::pass::Pass;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
@@ -502,17 +504,32 @@ impl GpuStep {
         }
     }
 
-    /// Finish the last step (its forces and the next Δt) so the GPU state is complete.
-    pub fn flush(&mut self) -> Result<(), GpuError> {
-        if !self.pending_forces {
-            return Ok(());
+    /// An encoder that first finishes the last step (its forces and the next Δt), where that
+    /// is pending, so that what it copies after sees the complete state; and whether those
+    /// forces build the neighbour lists (None: nothing was pending). `finished` records it
+    /// once submitted.
+    fn finishing_encoder(&self) -> (wgpu::CommandEncoder, Option<bool>) {
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("finish step"),
+            });
+        let build = self.pending_forces.then(|| self.lists_stale());
+        if let Some(build) = build {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            self.record_forces(&mut pass, build);
         }
-        let build = self.lists_stale();
-        super::run_once(&self.gpu, |pass| self.record_forces(pass, build))?;
-        self.built(build);
-        self.pending_forces = false;
-        self.pending_fixes = 0;
-        Ok(())
+        (encoder, build)
+    }
+
+    /// The last step's second half has run (`finishing_encoder`).
+    fn finished(&mut self, build: Option<bool>) {
+        if let Some(build) = build {
+            self.built(build);
+            self.pending_forces = false;
+            self.pending_fixes = 0;
+        }
     }
 
     fn built(&mut self, build: bool) {
@@ -671,38 +688,59 @@ impl GpuStep {
         what: Sync,
     ) -> Result<Totals, GpuError> {
         self.charge(None, false);
-        self.flush()?;
-        if let Some(s) = &self.sph {
-            let g = &self.gpu;
-            match what {
-                Sync::Full => s.particles.download(g, particles)?,
-                Sync::History => {
-                    let n = particles.len();
-                    particles.r = g.read(&s.particles.r, n)?;
-                    particles.z = g.read(&s.particles.z, n)?;
-                    particles.vr = g.read(&s.particles.vr, n)?;
-                    particles.vz = g.read(&s.particles.vz, n)?;
-                    particles.energy = g.read(&s.particles.energy, n)?;
-                }
-            }
-        }
-        self.nodes.download(&self.gpu, &mut projectile.nodes)?;
-        if self.fem.is_some() {
-            self.elements
-                .download(&self.gpu, &mut projectile.elements)?;
-        }
-        let sum = |v: Vec<f32>| v.iter().map(|&x| x as f64).sum::<f64>();
+        let (encoder, build) = self.finishing_encoder();
+        let mut batch = ReadBatch::new();
         let n_p = particles.len();
         let n_n = projectile.nodes.len();
-        let clock: Vec<u32> = self.gpu.read(&self.clock, 2)?;
+        let n_e = projectile.elements.len();
+        let sph = self.sph.as_ref().map(|s| match what {
+            Sync::Full => s.particles.queue(&mut batch, particles),
+            Sync::History => [
+                &s.particles.r,
+                &s.particles.z,
+                &s.particles.vr,
+                &s.particles.vz,
+                &s.particles.energy,
+            ]
+            .map(|b| batch.add::<f32>(b, n_p))
+            .to_vec(),
+        });
+        let nodes = self.nodes.queue(&mut batch, &projectile.nodes);
+        let elements = self
+            .fem
+            .as_ref()
+            .map(|_| self.elements.queue(&mut batch, &projectile.elements));
+        let clock = batch.add::<u32>(&self.clock, 2);
+        let particle_impulse = batch.add::<f32>(&self.acc.particle_impulse, n_p);
+        let node_impulse = batch.add::<f32>(&self.acc.node_impulse, n_n);
+        let node_lost = batch.add::<f32>(&self.acc.node_lost, n_n);
+        let plastic = batch.add::<f32>(&self.plastic_total, n_e);
+        let read = batch.read(&self.gpu, encoder)?;
+        self.finished(build);
+        match (sph, what) {
+            (Some(parts), Sync::Full) => GpuParticles::take(&read, &parts, particles),
+            (Some(parts), Sync::History) => {
+                let [r, z, vr, vz, energy] = [0, 1, 2, 3, 4].map(|k| read.take(parts[k]));
+                (particles.r, particles.z, particles.vr, particles.vz) = (r, z, vr, vz);
+                particles.energy = energy;
+            }
+            (None, _) => {}
+        }
+        GpuNodes::take(&read, &nodes, &mut projectile.nodes);
+        if let Some(parts) = elements {
+            GpuElements::take(&read, &parts, &mut projectile.elements);
+        }
+        let sum = |part| {
+            read.take::<f32>(part)
+                .iter()
+                .map(|&x| x as f64)
+                .sum::<f64>()
+        };
         let totals = Totals {
-            boundary_impulse: sum(self.gpu.read(&self.acc.particle_impulse, n_p)?)
-                + sum(self.gpu.read(&self.acc.node_impulse, n_n)?),
-            wall_lost: sum(self.gpu.read(&self.acc.node_lost, n_n)?),
-            plastic_work: sum(self
-                .gpu
-                .read(&self.plastic_total, projectile.elements.len())?),
-            next_dt: f32::from_bits(clock[0]),
+            boundary_impulse: sum(particle_impulse) + sum(node_impulse),
+            wall_lost: sum(node_lost),
+            plastic_work: sum(plastic),
+            next_dt: f32::from_bits(read.take::<u32>(clock)[0]),
         };
         let to = match what {
             Sync::Full => Charge::Full,
