@@ -10,8 +10,9 @@
 //! ```
 //!
 //! then one mapping brings back Δt_k, how far the particles have moved since the neighbour
-//! lists were built, the status words, the hits with their slaves' kinematics and the nodes'
-//! positions and velocities; the host applies the λ correction and the global shift
+//! lists were built, the status words, the nodes' positions and velocities, and the hits with
+//! their slaves' kinematics, as many as the last steps' most with margin (`HitBound`; a step
+//! with more reads them in a second round trip); the host applies the λ correction and the global shift
 //! (physics.md §4, `contact::correct`) and writes the corrected slaves and nodes for the next
 //! submission, which builds the neighbour lists again only when a particle may have moved half
 //! the lists' skin (`LIST_SKIN`). `download` runs a pending second half and then copies what
@@ -76,14 +77,66 @@ pub struct Readback {
     pub node_vz: Vec<f32>,
 }
 
-/// Byte offsets in the staging buffer.
+/// Byte offsets in the staging buffer: the fixed part first, then the hit count and as many
+/// hits as the read-back's bound (`HitBound`), then their slaves' kinematics.
 struct Layout {
     moved2: u64,
     status: u64,
-    hits: u64,
-    hit_data: u64,
     nodes: u64,
-    size: u64,
+    hits: u64,
+}
+
+impl Layout {
+    /// Where the slaves' kinematics start, and the bytes to map, when `bound` hits are copied.
+    fn hit_data(&self, bound: usize) -> (u64, u64) {
+        let at = self.hits + 4 * (1 + 2 * bound as u64);
+        (at, at + 16 * bound as u64)
+    }
+}
+
+/// Steps over which the most hits is taken for `HitBound`.
+const HIT_WINDOW: u32 = 64;
+
+/// How many hits the per-step read-back copies: the most of the last `HIT_WINDOW` steps with
+/// a margin, so the common step reads about the hits that exist, not the list's capacity (a
+/// slave each). A step with more reads them all in a second round trip and raises the bound at
+/// once; the hits read are the same either way.
+#[derive(Clone, Copy, Debug)]
+struct HitBound {
+    bound: usize,
+    capacity: usize,
+    window_max: usize,
+    steps: u32,
+}
+
+impl HitBound {
+    fn new(capacity: usize) -> HitBound {
+        HitBound {
+            bound: Self::margin(0).min(capacity),
+            capacity,
+            window_max: 0,
+            steps: 0,
+        }
+    }
+
+    /// Room for `n` hits and a quarter more, and a few for a contact just starting: the count
+    /// grows by a few hits a step while the nose enters.
+    fn margin(n: usize) -> usize {
+        n + n / 4 + 32
+    }
+
+    /// A step found `count` hits.
+    fn saw(&mut self, count: usize) {
+        self.window_max = self.window_max.max(count);
+        self.steps += 1;
+        if count > self.bound {
+            self.bound = Self::margin(count).min(self.capacity);
+        } else if self.steps >= HIT_WINDOW {
+            self.bound = Self::margin(self.window_max).min(self.capacity);
+            self.window_max = 0;
+            self.steps = 0;
+        }
+    }
 }
 
 pub struct GpuStep {
@@ -105,7 +158,7 @@ pub struct GpuStep {
     _uniforms: Vec<wgpu::Buffer>,
     staging: wgpu::Buffer,
     layout: Layout,
-    hit_capacity: usize,
+    hit_bound: HitBound,
     n_nodes: usize,
     /// Corrected slaves written for the next submission.
     pending_fixes: u32,
@@ -199,7 +252,8 @@ impl GpuStep {
         let deformable = s.passes.contains(&Pass::FemStress);
         let contact = s.passes.contains(&Pass::ContactDetect);
         let slaves: &[u32] = if contact { s.slaves } else { &[] };
-        let hit_capacity = slaves.len().clamp(1, 4096);
+        // Each slave is a hit at most once a step.
+        let hit_capacity = slaves.len().max(1);
         let u = StepUniform {
             n_particles: n_particles as u32,
             n_nodes: s.projectile.nodes.len() as u32,
@@ -215,7 +269,6 @@ impl GpuStep {
             beta,
             cfl: s.cfl,
             has_fem: u32::from(deformable),
-            hit_capacity: hit_capacity as u32,
         };
         let step_uniform = gpu.uniform("step", &u);
         let clock = gpu.buffer("clock", &[s.dt.to_bits(), f32::MAX.to_bits()]);
@@ -322,22 +375,17 @@ impl GpuStep {
         )?;
 
         let nn = s.projectile.nodes.len() as u64;
-        let moved2_at = 8u64;
         let status_at = 16u64;
-        let hits_at = status_at + 4 * STATUS_WORDS as u64;
-        let hit_data_at = hits_at + 4 * (1 + 2 * hit_capacity as u64);
-        let nodes_at = hit_data_at + 16 * hit_capacity as u64;
+        let nodes_at = status_at + 4 * STATUS_WORDS as u64;
         let layout = Layout {
-            moved2: moved2_at,
+            moved2: 8,
             status: status_at,
-            hits: hits_at,
-            hit_data: hit_data_at,
             nodes: nodes_at,
-            size: nodes_at + 16 * nn,
+            hits: nodes_at + 16 * nn,
         };
         let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("step read-back"),
-            size: layout.size,
+            size: layout.hit_data(hit_capacity).1,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -360,7 +408,7 @@ impl GpuStep {
             _uniforms: uniforms,
             staging,
             layout,
-            hit_capacity,
+            hit_bound: HitBound::new(hit_capacity),
             n_nodes: nn as usize,
             pending_fixes: 0,
             pending_forces: false,
@@ -586,10 +634,17 @@ impl GpuStep {
             l.status,
             4 * STATUS_WORDS as u64,
         );
-        if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
-            let cap = self.hit_capacity as u64;
-            encoder.copy_buffer_to_buffer(&c.hits, 0, &self.staging, l.hits, 4 * (1 + 2 * cap));
-            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, l.hit_data, 16 * cap);
+        let contact = self.sph.as_ref().and_then(|s| s.contact.as_ref());
+        let bound = if contact.is_some() {
+            self.hit_bound.bound
+        } else {
+            0
+        };
+        let (hit_data_at, size) = l.hit_data(bound);
+        if let Some(c) = contact {
+            let b = bound as u64;
+            encoder.copy_buffer_to_buffer(&c.hits, 0, &self.staging, l.hits, 4 * (1 + 2 * b));
+            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, hit_data_at, 16 * b);
         }
         let nn = 4 * self.n_nodes as u64;
         for (k, b) in [&self.nodes.r, &self.nodes.z, &self.nodes.vr, &self.nodes.vz]
@@ -605,7 +660,7 @@ impl GpuStep {
         self.pending_forces = true;
         self.pending_fixes = 0;
         let l = &self.layout;
-        let bytes = self.gpu.map_read(&self.staging, l.size as usize)?;
+        let bytes = self.gpu.map_read(&self.staging, size as usize)?;
         self.host.record += (recorded - start).as_secs_f64();
         self.host.submit += (submitted - recorded).as_secs_f64();
         self.host.wait += submitted.elapsed().as_secs_f64();
@@ -633,8 +688,8 @@ impl GpuStep {
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             let count = words[at(l.hits)] as usize;
             let h = at(l.hits) + 1;
-            let d = at(l.hit_data);
-            if count <= self.hit_capacity {
+            let d = at(hit_data_at);
+            if count <= bound {
                 rb.hits = (0..count)
                     .map(|k| (words[h + 2 * k], words[h + 2 * k + 1]))
                     .collect();
@@ -649,13 +704,22 @@ impl GpuStep {
                     })
                     .collect();
             } else {
-                // More hits than the per-step read-back holds: read them all (rare).
-                let all: Vec<u32> = self.gpu.read(&c.hits, 1 + 2 * count)?;
+                // More hits than the read-back's bound: read them all, in one more round trip.
+                let mut batch = ReadBatch::new();
+                let hits = batch.add::<u32>(&c.hits, 1 + 2 * count);
+                let data = batch.add::<[f32; 4]>(&c.hit_data, count);
+                let encoder = self
+                    .gpu
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+                let read = batch.read(&self.gpu, encoder)?;
+                let all: Vec<u32> = read.take(hits);
                 rb.hits = (0..count)
                     .map(|k| (all[1 + 2 * k], all[2 + 2 * k]))
                     .collect();
-                rb.hit_data = self.gpu.read::<[f32; 4]>(&c.hit_data, count)?;
+                rb.hit_data = read.take(data);
             }
+            self.hit_bound.saw(count);
         }
         self.charge(Some(Charge::Step), true);
         Ok(rb)
