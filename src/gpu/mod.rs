@@ -341,10 +341,16 @@ impl Gpu {
 
     /// Overwrite the start of a storage buffer.
     pub fn write<T: Pod>(&self, buffer: &wgpu::Buffer, data: &[T]) {
+        self.write_at(buffer, 0, data);
+    }
+
+    /// Overwrite a storage buffer's elements from element `first` on.
+    pub fn write_at<T: Pod>(&self, buffer: &wgpu::Buffer, first: usize, data: &[T]) {
         if !data.is_empty() {
             let bytes: &[u8] = bytemuck::cast_slice(data);
             self.traffic.written(bytes.len() as u64);
-            self.queue.write_buffer(buffer, 0, bytes);
+            let at = (first * std::mem::size_of::<T>()) as u64;
+            self.queue.write_buffer(buffer, at, bytes);
         }
     }
 

@@ -160,6 +160,9 @@ pub struct GpuStep {
     layout: Layout,
     hit_bound: HitBound,
     n_nodes: usize,
+    /// The nodes' r, z, vr, vz as the last read-back brought them: what the GPU holds until
+    /// `correct` writes what the host changed.
+    nodes_read: [Vec<f32>; 4],
     /// Corrected slaves written for the next submission.
     pending_fixes: u32,
     /// The second half of the last step (forces, Δt) has not been recorded yet.
@@ -410,6 +413,7 @@ impl GpuStep {
             layout,
             hit_bound: HitBound::new(hit_capacity),
             n_nodes: nn as usize,
+            nodes_read: Default::default(),
             pending_fixes: 0,
             pending_forces: false,
             list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
@@ -685,6 +689,7 @@ impl GpuStep {
             node_vr: node(2),
             node_vz: node(3),
         };
+        self.nodes_read = [&rb.node_r, &rb.node_z, &rb.node_vr, &rb.node_vz].map(|v| v.clone());
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             let count = words[at(l.hits)] as usize;
             let h = at(l.hits) + 1;
@@ -726,17 +731,29 @@ impl GpuStep {
     }
 
     /// Write the host's corrections: slaves `(index, [r, z, vr, vz])`, which moved them by at
-    /// most `moved` (m), and every node's position and velocity.
+    /// most `moved` (m), and the nodes' positions and velocities. Of each node array only the
+    /// span from the first to the last value the correction changed is written: the hits move
+    /// a few nodes' r and vr, the global shift every node's z and vz.
     pub fn correct(&mut self, fixes: &[(u32, [f32; 4])], moved: f32, nodes: &Nodes) {
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             c.write_fixes(&self.gpu, fixes);
             self.pending_fixes = fixes.len() as u32;
             self.since_build += moved;
         }
-        self.gpu.write(&self.nodes.r, &nodes.r);
-        self.gpu.write(&self.nodes.z, &nodes.z);
-        self.gpu.write(&self.nodes.vr, &nodes.vr);
-        self.gpu.write(&self.nodes.vz, &nodes.vz);
+        let n = &self.nodes;
+        let now = [&nodes.r, &nodes.z, &nodes.vr, &nodes.vz];
+        for ((buffer, read), now) in [&n.r, &n.z, &n.vr, &n.vz]
+            .into_iter()
+            .zip(&self.nodes_read)
+            .zip(now)
+        {
+            let differs = |k: &usize| read[*k].to_bits() != now[*k].to_bits();
+            let mut changed = (0..now.len()).filter(differs);
+            if let Some(first) = changed.next() {
+                let last = changed.next_back().unwrap_or(first);
+                self.gpu.write_at(buffer, first, &now[first..=last]);
+            }
+        }
         self.charge(Some(Charge::Step), false);
     }
 
