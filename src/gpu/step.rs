@@ -6,18 +6,18 @@
 //! apply (k−1's corrected slaves) → neighbours → sph_rates → concrete → sph_forces
 //!   → fem_stress → fem_forces → Δt reduction (clock.dt = Δt_k)
 //!   → integrate (Δt_k) → displacement watch → contact detect
-//!   → copy clock, watch, status, hits, nodes to the staging buffer
+//!   → copy clock, watch, status, nodes, hits to the staging buffer (`readback.rs`)
 //! ```
 //!
 //! then one mapping brings back Δt_k, how far the particles have moved since the neighbour
 //! lists were built, the status words, the nodes' positions and velocities, and the hits with
-//! their slaves' kinematics, as many as the last steps' most with margin (`HitBound`; a step
-//! with more reads them in a second round trip); the host applies the λ correction and the global shift
-//! (physics.md §4, `contact::correct`) and writes the corrected slaves and nodes for the next
-//! submission, which builds the neighbour lists again only when a particle may have moved half
-//! the lists' skin (`LIST_SKIN`). `download` runs a pending second half and then copies what
-//! it reads, all in one submission waited for once, so that the GPU state is the CPU's after
-//! the same number of `Simulation::step` calls (for outputs).
+//! their slaves' kinematics, as many as the last steps' most with a margin (`HitBound`; a step
+//! with more reads them in a second round trip). The host applies the λ correction and the
+//! global shift (physics.md §4, `contact::correct`) and writes the corrected slaves and the
+//! node values it changed for the next submission, which builds the neighbour lists again only
+//! when a particle may have moved half the lists' skin (`LIST_SKIN`). `download` (`sync.rs`)
+//! runs a pending second half and copies what it reads in one submission waited for once, so
+//! that the GPU state is the CPU's after the same number of `Simulation::step` calls.
 
 use std::time::Instant;
 
@@ -38,6 +38,13 @@ use super::ReadBatch;
 use super::{Gpu, GpuError};
 use crate::pass::Pass;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
+
+mod readback;
+mod sync;
+
+pub use readback::Readback;
+use readback::{HitBound, Layout};
+pub use sync::{Sync, Totals};
 
 /// The neighbour lists hold the particles within the support grown by this fraction of it, so
 /// they stay complete until some particle has moved half of the growth, and are built only
@@ -60,83 +67,6 @@ struct SphPasses {
     concrete: super::concrete::ConcretePass,
     forces: super::sph_forces::SphForcesPass,
     contact: Option<ContactPass>,
-}
-
-/// What one step's read-back holds.
-pub struct Readback {
-    /// The Δt this step integrated with.
-    pub dt: f32,
-    pub status: [u32; STATUS_WORDS],
-    /// (slave, master) pairs, in the order the GPU appended them.
-    pub hits: Vec<(u32, u32)>,
-    /// (r, z, vr, vz) of each hit's slave after integration.
-    pub hit_data: Vec<[f32; 4]>,
-    pub node_r: Vec<f32>,
-    pub node_z: Vec<f32>,
-    pub node_vr: Vec<f32>,
-    pub node_vz: Vec<f32>,
-}
-
-/// Byte offsets in the staging buffer: the fixed part first, then the hit count and as many
-/// hits as the read-back's bound (`HitBound`), then their slaves' kinematics.
-struct Layout {
-    moved2: u64,
-    status: u64,
-    nodes: u64,
-    hits: u64,
-}
-
-impl Layout {
-    /// Where the slaves' kinematics start, and the bytes to map, when `bound` hits are copied.
-    fn hit_data(&self, bound: usize) -> (u64, u64) {
-        let at = self.hits + 4 * (1 + 2 * bound as u64);
-        (at, at + 16 * bound as u64)
-    }
-}
-
-/// Steps over which the most hits is taken for `HitBound`.
-const HIT_WINDOW: u32 = 64;
-
-/// How many hits the per-step read-back copies: the most of the last `HIT_WINDOW` steps with
-/// a margin, so the common step reads about the hits that exist, not the list's capacity (a
-/// slave each). A step with more reads them all in a second round trip and raises the bound at
-/// once; the hits read are the same either way.
-#[derive(Clone, Copy, Debug)]
-struct HitBound {
-    bound: usize,
-    capacity: usize,
-    window_max: usize,
-    steps: u32,
-}
-
-impl HitBound {
-    fn new(capacity: usize) -> HitBound {
-        HitBound {
-            bound: Self::margin(0).min(capacity),
-            capacity,
-            window_max: 0,
-            steps: 0,
-        }
-    }
-
-    /// Room for `n` hits and a quarter more, and a few for a contact just starting: the count
-    /// grows by a few hits a step while the nose enters.
-    fn margin(n: usize) -> usize {
-        n + n / 4 + 32
-    }
-
-    /// A step found `count` hits.
-    fn saw(&mut self, count: usize) {
-        self.window_max = self.window_max.max(count);
-        self.steps += 1;
-        if count > self.bound {
-            self.bound = Self::margin(count).min(self.capacity);
-        } else if self.steps >= HIT_WINDOW {
-            self.bound = Self::margin(self.window_max).min(self.capacity);
-            self.window_max = 0;
-            self.steps = 0;
-        }
-    }
 }
 
 pub struct GpuStep {
@@ -556,34 +486,6 @@ impl GpuStep {
         }
     }
 
-    /// An encoder that first finishes the last step (its forces and the next Δt), where that
-    /// is pending, so that what it copies after sees the complete state; and whether those
-    /// forces build the neighbour lists (None: nothing was pending). `finished` records it
-    /// once submitted.
-    fn finishing_encoder(&self) -> (wgpu::CommandEncoder, Option<bool>) {
-        let mut encoder = self
-            .gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("finish step"),
-            });
-        let build = self.pending_forces.then(|| self.lists_stale());
-        if let Some(build) = build {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            self.record_forces(&mut pass, build);
-        }
-        (encoder, build)
-    }
-
-    /// The last step's second half has run (`finishing_encoder`).
-    fn finished(&mut self, build: Option<bool>) {
-        if let Some(build) = build {
-            self.built(build);
-            self.pending_forces = false;
-            self.pending_fixes = 0;
-        }
-    }
-
     fn built(&mut self, build: bool) {
         if build && self.sph.is_some() {
             self.since_build = 0.0;
@@ -757,80 +659,6 @@ impl GpuStep {
         self.charge(Some(Charge::Step), false);
     }
 
-    /// Finish the step and read the state back into the CPU structures, with the accumulated
-    /// boundary impulse, wall loss and plastic work (sums over entities, f64), and the next Δt.
-    /// `Sync::Full` reads every field; `Sync::History` only what a history row and the check
-    /// for slaves left inside need (the particles' positions, velocities and energies, the
-    /// projectile), a sixth of the bytes.
-    pub fn download(
-        &mut self,
-        particles: &mut Particles,
-        projectile: &mut Projectile,
-        what: Sync,
-    ) -> Result<Totals, GpuError> {
-        self.charge(None, false);
-        let (encoder, build) = self.finishing_encoder();
-        let mut batch = ReadBatch::new();
-        let n_p = particles.len();
-        let n_n = projectile.nodes.len();
-        let n_e = projectile.elements.len();
-        let sph = self.sph.as_ref().map(|s| match what {
-            Sync::Full => s.particles.queue(&mut batch, particles),
-            Sync::History => [
-                &s.particles.r,
-                &s.particles.z,
-                &s.particles.vr,
-                &s.particles.vz,
-                &s.particles.energy,
-            ]
-            .map(|b| batch.add::<f32>(b, n_p))
-            .to_vec(),
-        });
-        let nodes = self.nodes.queue(&mut batch, &projectile.nodes);
-        let elements = self
-            .fem
-            .as_ref()
-            .map(|_| self.elements.queue(&mut batch, &projectile.elements));
-        let clock = batch.add::<u32>(&self.clock, 2);
-        let particle_impulse = batch.add::<f32>(&self.acc.particle_impulse, n_p);
-        let node_impulse = batch.add::<f32>(&self.acc.node_impulse, n_n);
-        let node_lost = batch.add::<f32>(&self.acc.node_lost, n_n);
-        let plastic = batch.add::<f32>(&self.plastic_total, n_e);
-        let read = batch.read(&self.gpu, encoder)?;
-        self.finished(build);
-        match (sph, what) {
-            (Some(parts), Sync::Full) => GpuParticles::take(&read, &parts, particles),
-            (Some(parts), Sync::History) => {
-                let [r, z, vr, vz, energy] = [0, 1, 2, 3, 4].map(|k| read.take(parts[k]));
-                (particles.r, particles.z, particles.vr, particles.vz) = (r, z, vr, vz);
-                particles.energy = energy;
-            }
-            (None, _) => {}
-        }
-        GpuNodes::take(&read, &nodes, &mut projectile.nodes);
-        if let Some(parts) = elements {
-            GpuElements::take(&read, &parts, &mut projectile.elements);
-        }
-        let sum = |part| {
-            read.take::<f32>(part)
-                .iter()
-                .map(|&x| x as f64)
-                .sum::<f64>()
-        };
-        let totals = Totals {
-            boundary_impulse: sum(particle_impulse) + sum(node_impulse),
-            wall_lost: sum(node_lost),
-            plastic_work: sum(plastic),
-            next_dt: f32::from_bits(read.take::<u32>(clock)[0]),
-        };
-        let to = match what {
-            Sync::Full => Charge::Full,
-            Sync::History => Charge::History,
-        };
-        self.charge(Some(to), true);
-        Ok(totals)
-    }
-
     /// Where a status word says the step went wrong, the message (entity, reason).
     pub fn status_problem(
         status: &[u32; STATUS_WORDS],
@@ -872,22 +700,6 @@ struct FemPasses {
     forces: FemForcesPass,
     // Kept alive for the bind groups.
     _uniform: wgpu::Buffer,
-}
-
-/// How much of the state `GpuStep::download` reads back.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sync {
-    Full,
-    History,
-}
-
-/// Sums the host takes from the GPU's per-entity accumulators.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Totals {
-    pub boundary_impulse: f64,
-    pub wall_lost: f64,
-    pub plastic_work: f64,
-    pub next_dt: f32,
 }
 
 #[cfg(test)]

@@ -27,11 +27,11 @@ fn hit_bound_follows_the_hits() {
     assert_eq!(b.bound, 32);
     b.saw(40);
     assert_eq!(b.bound, 40 + 10 + 32);
-    for _ in 1..super::HIT_WINDOW {
+    for _ in 1..super::readback::HIT_WINDOW {
         b.saw(5);
     }
     assert_eq!(b.bound, 82, "the window held 40");
-    for _ in 0..super::HIT_WINDOW {
+    for _ in 0..super::readback::HIT_WINDOW {
         b.saw(5);
     }
     assert_eq!(b.bound, 5 + 1 + 32);
