@@ -25,6 +25,7 @@ pub mod sph_rates;
 pub mod state;
 pub mod step;
 pub mod timestep;
+pub mod traffic;
 
 use std::sync::{Arc, Mutex};
 
@@ -127,6 +128,8 @@ pub struct Gpu {
     errors: Arc<Mutex<Vec<String>>>,
     /// Bytes of buffers created through `buffer`, `zeros` and `uniform`.
     allocated: std::sync::atomic::AtomicU64,
+    /// Waits, bytes read back and bytes written so far (`traffic`).
+    pub traffic: traffic::Counters,
 }
 
 /// How a shader binding is used.
@@ -215,6 +218,7 @@ impl Gpu {
             ),
             errors,
             allocated: Default::default(),
+            traffic: Default::default(),
         })
     }
 
@@ -330,14 +334,23 @@ impl Gpu {
         bytes
             .write(value)
             .expect("encase writes into a growable Vec");
-        self.queue.write_buffer(buffer, 0, &bytes.into_inner());
+        let bytes = bytes.into_inner();
+        self.traffic.written(bytes.len() as u64);
+        self.queue.write_buffer(buffer, 0, &bytes);
     }
 
     /// Overwrite the start of a storage buffer.
     pub fn write<T: Pod>(&self, buffer: &wgpu::Buffer, data: &[T]) {
+        self.write_at(buffer, 0, data);
+    }
+
+    /// Overwrite a storage buffer's elements from element `first` on.
+    pub fn write_at<T: Pod>(&self, buffer: &wgpu::Buffer, first: usize, data: &[T]) {
         if !data.is_empty() {
-            self.queue
-                .write_buffer(buffer, 0, bytemuck::cast_slice(data));
+            let bytes: &[u8] = bytemuck::cast_slice(data);
+            self.traffic.written(bytes.len() as u64);
+            let at = (first * std::mem::size_of::<T>()) as u64;
+            self.queue.write_buffer(buffer, at, bytes);
         }
     }
 
@@ -363,6 +376,15 @@ impl Gpu {
         Ok(bytemuck::pod_collect_to_vec(&out))
     }
 
+    /// Block until the GPU has done all that was submitted (one round trip, counted).
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.traffic.wait();
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
+        Ok(())
+    }
+
     /// Map a MAP_READ buffer, copy out its first `bytes` bytes and unmap it.
     pub fn map_read(&self, staging: &wgpu::Buffer, bytes: usize) -> Result<Vec<u8>, GpuError> {
         let slice = staging.slice(..(bytes as u64).next_multiple_of(4));
@@ -370,9 +392,8 @@ impl Gpu {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
+        self.wait()?;
+        self.traffic.read(bytes as u64);
         match rx.recv() {
             Ok(Ok(())) => {}
             Ok(Err(e)) => return Err(GpuError::Device(format!("GPU read-back failed: {e}"))),
@@ -578,6 +599,121 @@ impl Kernel {
     }
 }
 
+/// Reads of several buffers gathered into one encoder: the copies go into as few staging
+/// buffers as the adapter's largest buffer allows, after whatever the encoder already holds,
+/// and one submission and one wait bring them all back. A history row or a frame reads some
+/// forty buffers; each read alone would be a round trip and a staging buffer.
+#[derive(Default)]
+pub struct ReadBatch<'a> {
+    /// Each part's buffer and the bytes read from its start.
+    parts: Vec<(&'a wgpu::Buffer, u64)>,
+}
+
+/// A part of a [`ReadBatch`], to take its values from the [`Batched`] result.
+#[derive(Clone, Copy, Debug)]
+pub struct Part(usize);
+
+/// What a [`ReadBatch`] read: each part's bytes.
+pub struct Batched {
+    parts: Vec<Vec<u8>>,
+}
+
+impl Batched {
+    /// The values of `part`.
+    pub fn take<T: Pod>(&self, part: Part) -> Vec<T> {
+        bytemuck::pod_collect_to_vec(&self.parts[part.0])
+    }
+}
+
+impl<'a> ReadBatch<'a> {
+    pub fn new() -> ReadBatch<'a> {
+        ReadBatch::default()
+    }
+
+    /// Read the first `count` elements of T from `buffer`.
+    pub fn add<T: Pod>(&mut self, buffer: &'a wgpu::Buffer, count: usize) -> Part {
+        self.parts
+            .push((buffer, (count * std::mem::size_of::<T>()) as u64));
+        Part(self.parts.len() - 1)
+    }
+
+    /// Record the copies in `encoder` after its commands, submit it, wait once and return
+    /// every part.
+    pub fn read(self, gpu: &Gpu, mut encoder: wgpu::CommandEncoder) -> Result<Batched, GpuError> {
+        // Every part is a whole number of 4-byte words (the buffers hold f32 and u32), so the
+        // copies' offsets are aligned as wgpu asks.
+        let max = gpu.limits.max_buffer_size;
+        let mut placed = Vec::with_capacity(self.parts.len());
+        let mut sizes: Vec<u64> = Vec::new();
+        for &(_, bytes) in &self.parts {
+            let last = sizes.len().wrapping_sub(1);
+            match sizes.last_mut() {
+                Some(size) if *size + bytes <= max => {
+                    placed.push((last, *size));
+                    *size += bytes;
+                }
+                _ => {
+                    placed.push((sizes.len(), 0));
+                    sizes.push(bytes);
+                }
+            }
+        }
+        let staging: Vec<wgpu::Buffer> = sizes
+            .iter()
+            .map(|&size| {
+                gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("batched read-back"),
+                    size: size.max(4),
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
+        for (&(buffer, bytes), &(k, at)) in self.parts.iter().zip(&placed) {
+            if bytes > 0 {
+                encoder.copy_buffer_to_buffer(buffer, 0, &staging[k], at, bytes);
+            }
+        }
+        gpu.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        for (k, b) in staging.iter().enumerate() {
+            let tx = tx.clone();
+            b.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+                let _ = tx.send((k, r));
+            });
+        }
+        drop(tx);
+        gpu.wait()?;
+        for _ in 0..staging.len() {
+            match rx.recv() {
+                Ok((_, Ok(()))) => {}
+                Ok((_, Err(e))) => {
+                    return Err(GpuError::Device(format!("GPU read-back failed: {e}")))
+                }
+                Err(_) => return Err(GpuError::Device("GPU read-back was dropped".into())),
+            }
+        }
+        let views = staging
+            .iter()
+            .map(|b| b.slice(..).get_mapped_range())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| GpuError::Device(format!("GPU read-back failed: {e}")))?;
+        let parts = self
+            .parts
+            .iter()
+            .zip(&placed)
+            .map(|(&(_, bytes), &(k, at))| views[k][at as usize..(at + bytes) as usize].to_vec())
+            .collect();
+        drop(views);
+        staging.iter().for_each(wgpu::Buffer::unmap);
+        gpu.traffic.read(sizes.iter().sum());
+        if let Some(e) = gpu.take_error() {
+            return Err(GpuError::Device(format!("GPU error: {e}")));
+        }
+        Ok(Batched { parts })
+    }
+}
+
 /// Run `record` in one compute pass, submit, and wait (tests and one-off uses).
 pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Result<(), GpuError> {
     let mut encoder = gpu
@@ -588,9 +724,7 @@ pub fn run_once(gpu: &Gpu, record: impl FnOnce(&mut wgpu::ComputePass)) -> Resul
         record(&mut pass);
     }
     gpu.queue.submit([encoder.finish()]);
-    gpu.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Device(format!("GPU wait failed: {e}")))?;
+    gpu.wait()?;
     match gpu.take_error() {
         Some(e) => Err(GpuError::Device(format!("GPU error: {e}"))),
         None => Ok(()),

@@ -239,8 +239,6 @@ uniform_block! {
         pub cfl: f32,
         /// 1 when the elements' stable step takes part (a deformable projectile).
         pub has_fem: u32,
-        /// Largest number of hits the per-step read-back holds (the rest is read separately).
-        pub hit_capacity: u32,
     }
 }
 

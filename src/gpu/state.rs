@@ -1,8 +1,7 @@
 //! GPU twins of `state::{Particles, Nodes, Elements}`: one storage buffer per field, the same
 //! names, the same element types, so a shader reads exactly what its CPU twin reads.
 
-use super::Gpu;
-use super::GpuError;
+use super::{Batched, Gpu, GpuError, Part, ReadBatch};
 use crate::state::{Elements, Nodes, Particles};
 
 /// Declares a struct of buffers mirroring a CPU struct's fields, with upload and download.
@@ -26,10 +25,26 @@ macro_rules! mirror {
                 $(gpu.write::<$t>(&self.$field, &s.$field);)*
             }
 
-            /// Read every field back into `s` (same lengths).
+            /// Read every field back into `s` (same lengths), in one round trip.
             pub fn download(&self, gpu: &Gpu, s: &mut $cpu) -> Result<(), GpuError> {
-                $(s.$field = gpu.read::<$t>(&self.$field, s.$field.len())?;)*
+                let mut batch = ReadBatch::new();
+                let parts = self.queue(&mut batch, s);
+                let encoder = gpu
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+                Self::take(&batch.read(gpu, encoder)?, &parts, s);
                 Ok(())
+            }
+
+            /// Add a read of every field (the lengths of `s`'s) to `batch`.
+            pub fn queue<'a>(&'a self, batch: &mut ReadBatch<'a>, s: &$cpu) -> Vec<Part> {
+                vec![$(batch.add::<$t>(&self.$field, s.$field.len()),)*]
+            }
+
+            /// Fill `s` from what `queue`'s parts read.
+            pub fn take(read: &Batched, parts: &[Part], s: &mut $cpu) {
+                let mut parts = parts.iter();
+                $(s.$field = read.take::<$t>(*parts.next().expect("one part per field"));)*
             }
         }
     };

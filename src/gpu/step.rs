@@ -6,16 +6,18 @@
 //! apply (k−1's corrected slaves) → neighbours → sph_rates → concrete → sph_forces
 //!   → fem_stress → fem_forces → Δt reduction (clock.dt = Δt_k)
 //!   → integrate (Δt_k) → displacement watch → contact detect
-//!   → copy clock, watch, status, hits, nodes to the staging buffer
+//!   → copy clock, watch, status, nodes, hits to the staging buffer (`readback.rs`)
 //! ```
 //!
 //! then one mapping brings back Δt_k, how far the particles have moved since the neighbour
-//! lists were built, the status words, the hits with their slaves' kinematics and the nodes'
-//! positions and velocities; the host applies the λ correction and the global shift
-//! (physics.md §4, `contact::correct`) and writes the corrected slaves and nodes for the next
-//! submission, which builds the neighbour lists again only when a particle may have moved half
-//! the lists' skin (`LIST_SKIN`). `flush` runs a pending second half alone, so that the GPU
-//! state is the CPU's after the same number of `Simulation::step` calls (for outputs).
+//! lists were built, the status words, the nodes' positions and velocities, and the hits with
+//! their slaves' kinematics, as many as the last steps' most with a margin (`HitBound`; a step
+//! with more reads them in a second round trip). The host applies the λ correction and the
+//! global shift (physics.md §4, `contact::correct`) and writes the corrected slaves and the
+//! node values it changed for the next submission, which builds the neighbour lists again only
+//! when a particle may have moved half the lists' skin (`LIST_SKIN`). `download` (`sync.rs`)
+//! runs a pending second half and copies what it reads in one submission waited for once, so
+//! that the GPU state is the CPU's after the same number of `Simulation::step` calls.
 
 use std::time::Instant;
 
@@ -31,9 +33,18 @@ use super::params::{FemUniform, SphUniform, StepUniform};
 use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::TimestepPass;
+use super::traffic::{Charge, Tally, Traffic};
+use super::ReadBatch;
 use super::{Gpu, GpuError};
 use crate::pass::Pass;
 use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
+
+mod readback;
+mod sync;
+
+pub use readback::Readback;
+use readback::{HitBound, Layout};
+pub use sync::{Sync, Totals};
 
 /// The neighbour lists hold the particles within the support grown by this fraction of it, so
 /// they stay complete until some particle has moved half of the growth, and are built only
@@ -58,31 +69,6 @@ struct SphPasses {
     contact: Option<ContactPass>,
 }
 
-/// What one step's read-back holds.
-pub struct Readback {
-    /// The Δt this step integrated with.
-    pub dt: f32,
-    pub status: [u32; STATUS_WORDS],
-    /// (slave, master) pairs, in the order the GPU appended them.
-    pub hits: Vec<(u32, u32)>,
-    /// (r, z, vr, vz) of each hit's slave after integration.
-    pub hit_data: Vec<[f32; 4]>,
-    pub node_r: Vec<f32>,
-    pub node_z: Vec<f32>,
-    pub node_vr: Vec<f32>,
-    pub node_vz: Vec<f32>,
-}
-
-/// Byte offsets in the staging buffer.
-struct Layout {
-    moved2: u64,
-    status: u64,
-    hits: u64,
-    hit_data: u64,
-    nodes: u64,
-    size: u64,
-}
-
 pub struct GpuStep {
     pub gpu: Gpu,
     sph: Option<SphPasses>,
@@ -102,8 +88,11 @@ pub struct GpuStep {
     _uniforms: Vec<wgpu::Buffer>,
     staging: wgpu::Buffer,
     layout: Layout,
-    hit_capacity: usize,
+    hit_bound: HitBound,
     n_nodes: usize,
+    /// The nodes' r, z, vr, vz as the last read-back brought them: what the GPU holds until
+    /// `correct` writes what the host changed.
+    nodes_read: [Vec<f32>; 4],
     /// Corrected slaves written for the next submission.
     pending_fixes: u32,
     /// The second half of the last step (forces, Δt) has not been recorded yet.
@@ -118,6 +107,10 @@ pub struct GpuStep {
     pub host: HostSeconds,
     /// Timestamps between passes (`bench`), where the adapter has them.
     profiler: Option<Profiler>,
+    /// The transfers of the steps and the reads so far (summary.json's `gpu_transfers`), and
+    /// the device's counts when they were last charged.
+    pub traffic: Traffic,
+    seen: Tally,
 }
 
 /// Host wall time of the steps' `advance` calls, summed: recording the command buffer, the
@@ -192,7 +185,8 @@ impl GpuStep {
         let deformable = s.passes.contains(&Pass::FemStress);
         let contact = s.passes.contains(&Pass::ContactDetect);
         let slaves: &[u32] = if contact { s.slaves } else { &[] };
-        let hit_capacity = slaves.len().clamp(1, 4096);
+        // Each slave is a hit at most once a step.
+        let hit_capacity = slaves.len().max(1);
         let u = StepUniform {
             n_particles: n_particles as u32,
             n_nodes: s.projectile.nodes.len() as u32,
@@ -208,7 +202,6 @@ impl GpuStep {
             beta,
             cfl: s.cfl,
             has_fem: u32::from(deformable),
-            hit_capacity: hit_capacity as u32,
         };
         let step_uniform = gpu.uniform("step", &u);
         let clock = gpu.buffer("clock", &[s.dt.to_bits(), f32::MAX.to_bits()]);
@@ -315,22 +308,17 @@ impl GpuStep {
         )?;
 
         let nn = s.projectile.nodes.len() as u64;
-        let moved2_at = 8u64;
         let status_at = 16u64;
-        let hits_at = status_at + 4 * STATUS_WORDS as u64;
-        let hit_data_at = hits_at + 4 * (1 + 2 * hit_capacity as u64);
-        let nodes_at = hit_data_at + 16 * hit_capacity as u64;
+        let nodes_at = status_at + 4 * STATUS_WORDS as u64;
         let layout = Layout {
-            moved2: moved2_at,
+            moved2: 8,
             status: status_at,
-            hits: hits_at,
-            hit_data: hit_data_at,
             nodes: nodes_at,
-            size: nodes_at + 16 * nn,
+            hits: nodes_at + 16 * nn,
         };
         let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("step read-back"),
-            size: layout.size,
+            size: layout.hit_data(hit_capacity).1,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -353,8 +341,9 @@ impl GpuStep {
             _uniforms: uniforms,
             staging,
             layout,
-            hit_capacity,
+            hit_bound: HitBound::new(hit_capacity),
             n_nodes: nn as usize,
+            nodes_read: Default::default(),
             pending_fixes: 0,
             pending_forces: false,
             list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
@@ -362,6 +351,8 @@ impl GpuStep {
             builds: 0,
             host: HostSeconds::default(),
             profiler: None,
+            traffic: Traffic::default(),
+            seen: Tally::default(),
         })
     }
 
@@ -406,6 +397,17 @@ impl GpuStep {
         if let Some(p) = &self.profiler {
             p.mark(pass, slot);
         }
+    }
+
+    /// Charge the transfers since the last charge to `to` (None: to nothing, as what `bench`
+    /// or a test reads between steps); `call` counts one more call of it.
+    fn charge(&mut self, to: Option<Charge>, call: bool) {
+        let now = self.gpu.traffic.now();
+        if let Some(to) = to {
+            self.traffic
+                .charge(to, Tally::between(self.seen, now), call);
+        }
+        self.seen = now;
     }
 
     /// Build the neighbour lists in the next step whatever the particles did (`bench`).
@@ -484,19 +486,6 @@ impl GpuStep {
         }
     }
 
-    /// Finish the last step (its forces and the next Δt) so the GPU state is complete.
-    pub fn flush(&mut self) -> Result<(), GpuError> {
-        if !self.pending_forces {
-            return Ok(());
-        }
-        let build = self.lists_stale();
-        super::run_once(&self.gpu, |pass| self.record_forces(pass, build))?;
-        self.built(build);
-        self.pending_forces = false;
-        self.pending_fixes = 0;
-        Ok(())
-    }
-
     fn built(&mut self, build: bool) {
         if build && self.sph.is_some() {
             self.since_build = 0.0;
@@ -506,6 +495,7 @@ impl GpuStep {
 
     /// Advance one step up to the contact correction and read back what the host needs.
     pub fn advance(&mut self) -> Result<Readback, GpuError> {
+        self.charge(None, false);
         let start = Instant::now();
         let build = self.pending_forces && self.lists_stale();
         let mut encoder = self
@@ -550,10 +540,17 @@ impl GpuStep {
             l.status,
             4 * STATUS_WORDS as u64,
         );
-        if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
-            let cap = self.hit_capacity as u64;
-            encoder.copy_buffer_to_buffer(&c.hits, 0, &self.staging, l.hits, 4 * (1 + 2 * cap));
-            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, l.hit_data, 16 * cap);
+        let contact = self.sph.as_ref().and_then(|s| s.contact.as_ref());
+        let bound = if contact.is_some() {
+            self.hit_bound.bound
+        } else {
+            0
+        };
+        let (hit_data_at, size) = l.hit_data(bound);
+        if let Some(c) = contact {
+            let b = bound as u64;
+            encoder.copy_buffer_to_buffer(&c.hits, 0, &self.staging, l.hits, 4 * (1 + 2 * b));
+            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, hit_data_at, 16 * b);
         }
         let nn = 4 * self.n_nodes as u64;
         for (k, b) in [&self.nodes.r, &self.nodes.z, &self.nodes.vr, &self.nodes.vz]
@@ -569,7 +566,7 @@ impl GpuStep {
         self.pending_forces = true;
         self.pending_fixes = 0;
         let l = &self.layout;
-        let bytes = self.gpu.map_read(&self.staging, l.size as usize)?;
+        let bytes = self.gpu.map_read(&self.staging, size as usize)?;
         self.host.record += (recorded - start).as_secs_f64();
         self.host.submit += (submitted - recorded).as_secs_f64();
         self.host.wait += submitted.elapsed().as_secs_f64();
@@ -594,11 +591,12 @@ impl GpuStep {
             node_vr: node(2),
             node_vz: node(3),
         };
+        self.nodes_read = [&rb.node_r, &rb.node_z, &rb.node_vr, &rb.node_vz].map(|v| v.clone());
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             let count = words[at(l.hits)] as usize;
             let h = at(l.hits) + 1;
-            let d = at(l.hit_data);
-            if count <= self.hit_capacity {
+            let d = at(hit_data_at);
+            if count <= bound {
                 rb.hits = (0..count)
                     .map(|k| (words[h + 2 * k], words[h + 2 * k + 1]))
                     .collect();
@@ -613,75 +611,52 @@ impl GpuStep {
                     })
                     .collect();
             } else {
-                // More hits than the per-step read-back holds: read them all (rare).
-                let all: Vec<u32> = self.gpu.read(&c.hits, 1 + 2 * count)?;
+                // More hits than the read-back's bound: read them all, in one more round trip.
+                let mut batch = ReadBatch::new();
+                let hits = batch.add::<u32>(&c.hits, 1 + 2 * count);
+                let data = batch.add::<[f32; 4]>(&c.hit_data, count);
+                let encoder = self
+                    .gpu
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+                let read = batch.read(&self.gpu, encoder)?;
+                let all: Vec<u32> = read.take(hits);
                 rb.hits = (0..count)
                     .map(|k| (all[1 + 2 * k], all[2 + 2 * k]))
                     .collect();
-                rb.hit_data = self.gpu.read::<[f32; 4]>(&c.hit_data, count)?;
+                rb.hit_data = read.take(data);
             }
+            self.hit_bound.saw(count);
         }
+        self.charge(Some(Charge::Step), true);
         Ok(rb)
     }
 
     /// Write the host's corrections: slaves `(index, [r, z, vr, vz])`, which moved them by at
-    /// most `moved` (m), and every node's position and velocity.
+    /// most `moved` (m), and the nodes' positions and velocities. Of each node array only the
+    /// span from the first to the last value the correction changed is written: the hits move
+    /// a few nodes' r and vr, the global shift every node's z and vz.
     pub fn correct(&mut self, fixes: &[(u32, [f32; 4])], moved: f32, nodes: &Nodes) {
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             c.write_fixes(&self.gpu, fixes);
             self.pending_fixes = fixes.len() as u32;
             self.since_build += moved;
         }
-        self.gpu.write(&self.nodes.r, &nodes.r);
-        self.gpu.write(&self.nodes.z, &nodes.z);
-        self.gpu.write(&self.nodes.vr, &nodes.vr);
-        self.gpu.write(&self.nodes.vz, &nodes.vz);
-    }
-
-    /// Finish the step and read the state back into the CPU structures, with the accumulated
-    /// boundary impulse, wall loss and plastic work (sums over entities, f64), and the next Δt.
-    /// `Sync::Full` reads every field; `Sync::History` only what a history row and the check
-    /// for slaves left inside need (the particles' positions, velocities and energies, the
-    /// projectile), a sixth of the bytes.
-    pub fn download(
-        &mut self,
-        particles: &mut Particles,
-        projectile: &mut Projectile,
-        what: Sync,
-    ) -> Result<Totals, GpuError> {
-        self.flush()?;
-        if let Some(s) = &self.sph {
-            let g = &self.gpu;
-            match what {
-                Sync::Full => s.particles.download(g, particles)?,
-                Sync::History => {
-                    let n = particles.len();
-                    particles.r = g.read(&s.particles.r, n)?;
-                    particles.z = g.read(&s.particles.z, n)?;
-                    particles.vr = g.read(&s.particles.vr, n)?;
-                    particles.vz = g.read(&s.particles.vz, n)?;
-                    particles.energy = g.read(&s.particles.energy, n)?;
-                }
+        let n = &self.nodes;
+        let now = [&nodes.r, &nodes.z, &nodes.vr, &nodes.vz];
+        for ((buffer, read), now) in [&n.r, &n.z, &n.vr, &n.vz]
+            .into_iter()
+            .zip(&self.nodes_read)
+            .zip(now)
+        {
+            let differs = |k: &usize| read[*k].to_bits() != now[*k].to_bits();
+            let mut changed = (0..now.len()).filter(differs);
+            if let Some(first) = changed.next() {
+                let last = changed.next_back().unwrap_or(first);
+                self.gpu.write_at(buffer, first, &now[first..=last]);
             }
         }
-        self.nodes.download(&self.gpu, &mut projectile.nodes)?;
-        if self.fem.is_some() {
-            self.elements
-                .download(&self.gpu, &mut projectile.elements)?;
-        }
-        let sum = |v: Vec<f32>| v.iter().map(|&x| x as f64).sum::<f64>();
-        let n_p = particles.len();
-        let n_n = projectile.nodes.len();
-        let clock: Vec<u32> = self.gpu.read(&self.clock, 2)?;
-        Ok(Totals {
-            boundary_impulse: sum(self.gpu.read(&self.acc.particle_impulse, n_p)?)
-                + sum(self.gpu.read(&self.acc.node_impulse, n_n)?),
-            wall_lost: sum(self.gpu.read(&self.acc.node_lost, n_n)?),
-            plastic_work: sum(self
-                .gpu
-                .read(&self.plastic_total, projectile.elements.len())?),
-            next_dt: f32::from_bits(clock[0]),
-        })
+        self.charge(Some(Charge::Step), false);
     }
 
     /// Where a status word says the step went wrong, the message (entity, reason).
@@ -725,22 +700,6 @@ struct FemPasses {
     forces: FemForcesPass,
     // Kept alive for the bind groups.
     _uniform: wgpu::Buffer,
-}
-
-/// How much of the state `GpuStep::download` reads back.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sync {
-    Full,
-    History,
-}
-
-/// Sums the host takes from the GPU's per-entity accumulators.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Totals {
-    pub boundary_impulse: f64,
-    pub wall_lost: f64,
-    pub plastic_work: f64,
-    pub next_dt: f32,
 }
 
 #[cfg(test)]

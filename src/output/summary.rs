@@ -110,6 +110,11 @@ pub struct Summary {
     pub max_speed_m_s: f64,
     /// GPU runs: how many steps built the SPH neighbour lists (the rest reused them).
     pub neighbour_list_builds: u64,
+    /// GPU runs: blocking waits, bytes read back and bytes written, by what asked for them
+    /// (the steps, the history rows, the full reads, the summary's own included).
+    /// Absent on the CPU and in summaries written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_transfers: Option<crate::gpu::traffic::Traffic>,
 }
 
 impl Summary {

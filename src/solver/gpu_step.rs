@@ -50,6 +50,10 @@ impl Stepper for GpuStepper {
     fn builds(&self) -> Option<u64> {
         Some(self.step.builds)
     }
+
+    fn traffic(&self) -> Option<crate::gpu::traffic::Traffic> {
+        Some(self.step.traffic)
+    }
 }
 
 impl Model {

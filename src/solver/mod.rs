@@ -52,6 +52,10 @@ pub trait Stepper {
     fn builds(&self) -> Option<u64> {
         None
     }
+    /// What crossed between the host and the GPU so far, where there is a GPU.
+    fn traffic(&self) -> Option<crate::gpu::traffic::Traffic> {
+        None
+    }
 }
 
 /// Running energy and impulse account (f64).

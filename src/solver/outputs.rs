@@ -184,6 +184,7 @@ impl Model {
             max_speed_m_s: self.max_speed(),
             max_residual_penetration_m: a.max_residual_penetration as f64,
             neighbour_list_builds: stepper.builds().unwrap_or(0),
+            gpu_transfers: stepper.traffic(),
         }
     }
 }

@@ -1,6 +1,167 @@
-use super::{profiled_slot, PROFILED};
+use super::{profiled_slot, HitBound, Sync, PROFILED};
 use crate::gpu::neighbours::NBR_MAX;
 use crate::pass::{self, Pass};
+use crate::scene::Backend;
+use crate::solver::Simulation;
+
+/// The smoke scene at 800 m/s: a contact of several hits within a few hundred steps.
+fn fast_smoke() -> Simulation {
+    let scene = crate::scene::load(
+        std::path::Path::new("cases/smoke.toml"),
+        &["projectile.velocity=800".into()],
+    )
+    .unwrap();
+    crate::solver::build(&scene, Backend::Gpu, None).unwrap()
+}
+
+/// f32 values as their bits, so that equality is bit-identity.
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The bound takes the most hits of a window with margin, rises at once past it, falls at the
+/// window's end, and never exceeds the list's capacity.
+#[test]
+fn hit_bound_follows_the_hits() {
+    let mut b = HitBound::new(1000);
+    assert_eq!(b.bound, 32);
+    b.saw(40);
+    assert_eq!(b.bound, 40 + 10 + 32);
+    for _ in 1..super::readback::HIT_WINDOW {
+        b.saw(5);
+    }
+    assert_eq!(b.bound, 82, "the window held 40");
+    for _ in 0..super::readback::HIT_WINDOW {
+        b.saw(5);
+    }
+    assert_eq!(b.bound, 5 + 1 + 32);
+    b.saw(999);
+    assert_eq!(b.bound, 1000);
+    let mut small = HitBound::new(10);
+    assert_eq!(small.bound, 10);
+    small.saw(10);
+    assert_eq!(small.bound, 10);
+}
+
+/// A step with more hits than the read-back's bound reads every hit in a second round trip:
+/// a run whose bound is held at one hit ends bit for bit where one with the bound free does.
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn hits_beyond_the_bound_are_all_read() {
+    let run = |held: Option<usize>| {
+        let mut sim = fast_smoke();
+        for _ in 0..300 {
+            if let Some(b) = held {
+                sim.gpu_step().unwrap().hit_bound.bound = b;
+            }
+            sim.step().unwrap();
+        }
+        let t = sim.gpu_step().unwrap().traffic.steps;
+        let m = sim.into_model().unwrap();
+        let p = &m.particles;
+        let n = &m.projectile.nodes;
+        let state: Vec<Vec<u32>> = [
+            &p.r, &p.z, &p.vr, &p.vz, &p.energy, &n.r, &n.z, &n.vr, &n.vz,
+        ]
+        .into_iter()
+        .map(|v| bits(v))
+        .collect();
+        (
+            state,
+            m.account.contact_impulse.to_bits(),
+            t.waits - t.calls,
+        )
+    };
+    let (free, free_impulse, _) = run(None);
+    let (held, held_impulse, second_reads) = run(Some(1));
+    assert!(
+        second_reads > 10,
+        "{second_reads} steps read past the bound"
+    );
+    assert!(free_impulse != 0, "the contact acted");
+    assert_eq!(free_impulse, held_impulse);
+    assert!(free == held, "the states differ");
+}
+
+/// The batched reads of a history row and of the whole state give, bit for bit, what reading
+/// each buffer alone gives.
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn batched_reads_match_reads_one_by_one() {
+    let mut sim = fast_smoke();
+    for _ in 0..150 {
+        sim.step().unwrap();
+    }
+    let model = sim.model().unwrap();
+    let mut m = (model.particles.clone(), model.projectile.clone());
+    // A step pending: the history read finishes it in the same submission.
+    sim.step().unwrap();
+    let g = sim.gpu_step().unwrap();
+    let (mut history_p, mut history_proj) = (m.0.clone(), m.1.clone());
+    let totals = g
+        .download(&mut history_p, &mut history_proj, Sync::History)
+        .unwrap();
+    g.download(&mut m.0, &mut m.1, Sync::Full).unwrap();
+    let gpu = &g.gpu;
+    let one = |b: &wgpu::Buffer, n: usize| bits(&gpu.read::<f32>(b, n).unwrap());
+    let sph = g.sph.as_ref().unwrap();
+    let (p, np) = (&sph.particles, m.0.len());
+    for (buffer, full, history) in [
+        (&p.r, &m.0.r, &history_p.r),
+        (&p.z, &m.0.z, &history_p.z),
+        (&p.vr, &m.0.vr, &history_p.vr),
+        (&p.vz, &m.0.vz, &history_p.vz),
+        (&p.energy, &m.0.energy, &history_p.energy),
+    ] {
+        assert_eq!(one(buffer, np), bits(full));
+        assert_eq!(one(buffer, np), bits(history));
+    }
+    for (buffer, full) in [
+        (&p.rho, &m.0.rho),
+        (&p.p, &m.0.p),
+        (&p.damage, &m.0.damage),
+        (&p.hoop_weight, &m.0.hoop_weight),
+        (&p.mass, &m.0.mass),
+    ] {
+        assert_eq!(one(buffer, np), bits(full));
+    }
+    let flat = |v: &[[f32; 3]]| bits(bytemuck::cast_slice(v));
+    assert_eq!(one(&p.art_stress, 3 * np), flat(&m.0.art_stress));
+    assert_eq!(gpu.read::<u32>(&p.fixed, np).unwrap(), m.0.fixed);
+    let (n, nn) = (&g.nodes, m.1.nodes.len());
+    for (buffer, full, history) in [
+        (&n.r, &m.1.nodes.r, &history_proj.nodes.r),
+        (&n.vz, &m.1.nodes.vz, &history_proj.nodes.vz),
+        (&n.fz, &m.1.nodes.fz, &history_proj.nodes.fz),
+    ] {
+        assert_eq!(one(buffer, nn), bits(full));
+        assert_eq!(one(buffer, nn), bits(history));
+    }
+    let (e, ne) = (&g.elements, m.1.elements.len());
+    assert_eq!(one(&e.p, ne), bits(&m.1.elements.p));
+    assert_eq!(one(&e.damage, ne), bits(&history_proj.elements.damage));
+    assert_eq!(
+        one(&e.force, 6 * ne),
+        bits(bytemuck::cast_slice(&m.1.elements.force))
+    );
+    let sum = |b: &wgpu::Buffer, n: usize| {
+        gpu.read::<f32>(b, n)
+            .unwrap()
+            .iter()
+            .map(|&x| x as f64)
+            .sum::<f64>()
+    };
+    assert_eq!(
+        totals.boundary_impulse.to_bits(),
+        (sum(&g.acc.particle_impulse, np) + sum(&g.acc.node_impulse, nn)).to_bits()
+    );
+    assert_eq!(
+        totals.plastic_work.to_bits(),
+        sum(&g.plastic_total, ne).to_bits()
+    );
+    let clock: Vec<u32> = gpu.read(&g.clock, 2).unwrap();
+    assert_eq!(totals.next_dt.to_bits(), clock[0]);
+}
 
 /// Every pass the GPU records has a profiler slot, in the order the pass list runs them:
 /// the second half before the time step's, then the first half (the next step's).

@@ -1,0 +1,128 @@
+//! The GPU state read back for outputs (gpu::step): a history row's share of it or all of it,
+//! after the pending second half of the last step, in one submission waited for once.
+
+use super::super::state::{GpuElements, GpuNodes, GpuParticles};
+use super::super::traffic::Charge;
+use super::super::{GpuError, ReadBatch};
+use super::GpuStep;
+use crate::state::{Particles, Projectile};
+
+impl GpuStep {
+    /// An encoder that first finishes the last step (its forces and the next Δt), where that
+    /// is pending, so that what it copies after sees the complete state; and whether those
+    /// forces build the neighbour lists (None: nothing was pending). `finished` records it
+    /// once submitted.
+    fn finishing_encoder(&self) -> (wgpu::CommandEncoder, Option<bool>) {
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("finish step"),
+            });
+        let build = self.pending_forces.then(|| self.lists_stale());
+        if let Some(build) = build {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            self.record_forces(&mut pass, build);
+        }
+        (encoder, build)
+    }
+
+    /// The last step's second half has run (`finishing_encoder`).
+    fn finished(&mut self, build: Option<bool>) {
+        if let Some(build) = build {
+            self.built(build);
+            self.pending_forces = false;
+            self.pending_fixes = 0;
+        }
+    }
+
+    /// Finish the step and read the state back into the CPU structures, with the accumulated
+    /// boundary impulse, wall loss and plastic work (sums over entities, f64), and the next Δt.
+    /// `Sync::Full` reads every field; `Sync::History` only what a history row and the check
+    /// for slaves left inside need (the particles' positions, velocities and energies, the
+    /// projectile), a sixth of the bytes.
+    pub fn download(
+        &mut self,
+        particles: &mut Particles,
+        projectile: &mut Projectile,
+        what: Sync,
+    ) -> Result<Totals, GpuError> {
+        self.charge(None, false);
+        let (encoder, build) = self.finishing_encoder();
+        let mut batch = ReadBatch::new();
+        let n_p = particles.len();
+        let n_n = projectile.nodes.len();
+        let n_e = projectile.elements.len();
+        let sph = self.sph.as_ref().map(|s| match what {
+            Sync::Full => s.particles.queue(&mut batch, particles),
+            Sync::History => [
+                &s.particles.r,
+                &s.particles.z,
+                &s.particles.vr,
+                &s.particles.vz,
+                &s.particles.energy,
+            ]
+            .map(|b| batch.add::<f32>(b, n_p))
+            .to_vec(),
+        });
+        let nodes = self.nodes.queue(&mut batch, &projectile.nodes);
+        let elements = self
+            .fem
+            .as_ref()
+            .map(|_| self.elements.queue(&mut batch, &projectile.elements));
+        let clock = batch.add::<u32>(&self.clock, 2);
+        let particle_impulse = batch.add::<f32>(&self.acc.particle_impulse, n_p);
+        let node_impulse = batch.add::<f32>(&self.acc.node_impulse, n_n);
+        let node_lost = batch.add::<f32>(&self.acc.node_lost, n_n);
+        let plastic = batch.add::<f32>(&self.plastic_total, n_e);
+        let read = batch.read(&self.gpu, encoder)?;
+        self.finished(build);
+        match (sph, what) {
+            (Some(parts), Sync::Full) => GpuParticles::take(&read, &parts, particles),
+            (Some(parts), Sync::History) => {
+                let [r, z, vr, vz, energy] = [0, 1, 2, 3, 4].map(|k| read.take(parts[k]));
+                (particles.r, particles.z, particles.vr, particles.vz) = (r, z, vr, vz);
+                particles.energy = energy;
+            }
+            (None, _) => {}
+        }
+        GpuNodes::take(&read, &nodes, &mut projectile.nodes);
+        if let Some(parts) = elements {
+            GpuElements::take(&read, &parts, &mut projectile.elements);
+        }
+        let sum = |part| {
+            read.take::<f32>(part)
+                .iter()
+                .map(|&x| x as f64)
+                .sum::<f64>()
+        };
+        let totals = Totals {
+            boundary_impulse: sum(particle_impulse) + sum(node_impulse),
+            wall_lost: sum(node_lost),
+            plastic_work: sum(plastic),
+            next_dt: f32::from_bits(read.take::<u32>(clock)[0]),
+        };
+        let to = match what {
+            Sync::Full => Charge::Full,
+            Sync::History => Charge::History,
+        };
+        self.charge(Some(to), true);
+        Ok(totals)
+    }
+}
+
+/// How much of the state `GpuStep::download` reads back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sync {
+    Full,
+    History,
+}
+
+/// Sums the host takes from the GPU's per-entity accumulators.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Totals {
+    pub boundary_impulse: f64,
+    pub wall_lost: f64,
+    pub plastic_work: f64,
+    pub next_dt: f32,
+}
