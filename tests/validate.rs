@@ -186,6 +186,49 @@ fn quick_validation_writes_every_section() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// A rod scene that is not the shot its data row describes (here, a wider rod) is refused by
+/// name before anything runs.
+#[test]
+fn a_rod_scene_unlike_its_data_row_is_refused() {
+    let out = scratch("validate-rod-mismatch");
+    let cases = out.join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    for entry in std::fs::read_dir(root().join("cases")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, cases.join(path.file_name().unwrap())).unwrap();
+    }
+    let file = cases.join("frew-30mm-58-445.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("diameter = 0.0305 "));
+    std::fs::write(
+        &file,
+        text.replace("diameter = 0.0305 ", "diameter = 0.0310 "),
+    )
+    .unwrap();
+    let o = penetrate(&[
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu",
+        "--only",
+        "crh3-rods",
+        "--cases",
+        cases.to_str().unwrap(),
+        "--out",
+        out.join("report").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("frew-30mm-58-445.toml is not the 445 m/s shot of the frew-30mm-58 set")
+            && e.contains("diameter 0.031 m")
+            && e.contains("diameter 0.0305 m"),
+        "{e}"
+    );
+    assert!(!out.join("report").join("crh3-rods").join("runs").exists());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// `--only` runs the sections named and the report says which ran; an unknown section or a
 /// missing data folder is refused before anything runs.
 #[test]
@@ -200,7 +243,7 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     assert!(o.status.success(), "{}", stderr(&o));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("Sections run: taylor\n"), "{report}");
-    assert!(report.contains("Sections not run: forrestal, target-size"));
+    assert!(report.contains("Sections not run: forrestal, crh3-rods, target-size"));
     assert!(!out.join("forrestal").exists());
 
     let o = penetrate(&[&base[..], &["--data", data, "--only", "taylor,bogus"]].concat());

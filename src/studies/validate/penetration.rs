@@ -1,5 +1,6 @@
-//! The Forrestal et al. (1994) shots: depth against the measurements and Forrestal's equation,
-//! and the target-size check. Depth error against run time is in `convergence`.
+//! The penetration shots — the Forrestal et al. (1994) shots and the CRH 3 rods — against the
+//! measurements and Forrestal's equation, the accuracy rule over all of them, and the
+//! target-size check. Depth error against run time is in `convergence`.
 
 use crate::output::plot::{Chart, Mark};
 use crate::scene::{self, ProjectileShape, Scene};
