@@ -44,13 +44,18 @@ fn element_dt(@builtin(global_invocation_id) gid: vec3<u32>,
     for (var i = gid.x; i < u.n_elements; i += groups.x * WG) {
         bits = min(bits, candidate_bits(a[i]));
     }
-    atomicMin(&clock.dt_next_bits, bits);
+    atomicMin(&clock.fem_next_bits, bits);
 }
 
-// One thread: the next step is the minimum times the CFL number; the running minimum resets.
+// One thread: the next step is the least candidate times the CFL number, set by the elements
+// when theirs is no larger (as Model::stable_dt counts it); the running minima reset.
 @compute @workgroup_size(1)
 fn finish() {
-    let dt = bitcast<f32>(atomicLoad(&clock.dt_next_bits)) * u.cfl;
+    let sph = atomicLoad(&clock.dt_next_bits);
+    let fem = atomicLoad(&clock.fem_next_bits);
+    let dt = bitcast<f32>(min(sph, fem)) * u.cfl;
     atomicStore(&clock.dt_bits, bitcast<u32>(dt));
+    atomicStore(&clock.fem_limited, select(0u, 1u, fem <= sph && fem != F32_MAX_BITS));
     atomicStore(&clock.dt_next_bits, F32_MAX_BITS);
+    atomicStore(&clock.fem_next_bits, F32_MAX_BITS);
 }

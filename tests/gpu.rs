@@ -245,6 +245,19 @@ fn gpu_depth_matches_cpu_with_friction() {
 /// impulse is its projectile's momentum change.
 fn books_the_cpu_account(cpu: &solver::RunOutcome, gpu: &solver::RunOutcome) {
     let s = &gpu.summary;
+    // Which side set Δt: every step booked once, and the GPU's reduction decides as the CPU
+    // does (the counts within a step or two where a near tie falls the other way).
+    for t in [s, &cpu.summary] {
+        assert_eq!(t.fem_limited_steps + t.sph_limited_steps, t.steps, "{t:?}");
+    }
+    assert!(
+        s.fem_limited_steps.abs_diff(cpu.summary.fem_limited_steps) <= 2 + s.steps / 100,
+        "steps the elements set: gpu {} of {}, cpu {} of {}",
+        s.fem_limited_steps,
+        s.steps,
+        cpu.summary.fem_limited_steps,
+        cpu.summary.steps
+    );
     // Energy and momentum accounts come from the GPU's accumulators: same as the CPU's.
     assert!(
         (s.energy_error - cpu.summary.energy_error).abs() < 0.01,

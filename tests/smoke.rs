@@ -43,6 +43,19 @@ fn smoke_case_runs_with_finite_fields() {
     assert!(outcome.ok, "status: {}", s.status);
     assert_eq!(s.status, "completed");
     assert!(s.steps > 10);
+    // The smoke projectile's elements set its steps, and the summary says which one.
+    assert_eq!(s.fem_limited_steps + s.sph_limited_steps, s.steps);
+    assert!(
+        s.fem_limited_steps > 0,
+        "{} of {}",
+        s.fem_limited_steps,
+        s.steps
+    );
+    assert!(
+        s.smallest_step_at_end.starts_with("element "),
+        "{}",
+        s.smallest_step_at_end
+    );
     for (name, v) in [
         ("depth", s.depth_m),
         ("velocity", s.projectile_velocity_m_s),
@@ -246,6 +259,11 @@ fn lambda_zero_projectile_is_rigid() {
         .pass_names("cpu")
         .iter()
         .any(|p| p.starts_with("fem_stress")));
+    // Without element stresses the particles set every step.
+    assert_eq!(
+        (sim.account.fem_limited_steps, sim.account.sph_limited_steps),
+        (0, 300)
+    );
 }
 
 /// Coulomb friction at the sliding surface (μ = 0.3) drags on the nose: the smoke shot ends

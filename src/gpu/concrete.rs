@@ -378,7 +378,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
-        let clock = gpu.buffer("clock", &[dt.to_bits(), 0u32]);
+        let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(dt, false));
         let pass = ConcretePass::new(&gpu, &gp, &uniform, &clock, &sph).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = sim.particles.clone();

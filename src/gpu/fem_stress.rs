@@ -400,7 +400,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     ) -> GpuResult {
         let gn = GpuNodes::upload(gpu, nodes);
         let ge = GpuElements::upload(gpu, elements);
-        let clock = gpu.buffer("clock", &[dt.to_bits(), 0u32]);
+        let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(dt, false));
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let plastic_total = gpu.buffer("plastic total", plastic_start);
         let uniform = gpu.uniform("fem", &FemUniform::new(params, elements.len(), nodes.len()));

@@ -180,7 +180,7 @@ mod tests {
         let dt = sim.dt;
         let u = uniform(&sim);
         let step = gpu.uniform("step", &u);
-        let clock = gpu.buffer("clock", &[dt.to_bits(), f32::MAX.to_bits()]);
+        let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(dt, false));
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
@@ -249,7 +249,7 @@ mod tests {
         sim.particles.fixed[17] = 0;
         let u = uniform(&sim);
         let step = gpu.uniform("step", &u);
-        let clock = gpu.buffer("clock", &[sim.dt.to_bits(), f32::MAX.to_bits()]);
+        let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(sim.dt, false));
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);

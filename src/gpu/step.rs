@@ -9,15 +9,15 @@
 //!   → copy clock, watch, status, nodes, hits to the staging buffer (`readback.rs`)
 //! ```
 //!
-//! then one mapping brings back Δt_k, how far the particles have moved since the neighbour
-//! lists were built, the status words, the nodes' positions and velocities, and the hits with
-//! their slaves' kinematics, as many as the last steps' most with a margin (`HitBound`; a step
-//! with more reads them in a second round trip). The host applies the λ correction and the
-//! global shift (physics.md §4, `contact::correct`) and writes the corrected slaves and the
-//! node values it changed for the next submission, which builds the neighbour lists again only
-//! when a particle may have moved half the lists' skin (`LIST_SKIN`). `download` (`sync.rs`)
-//! runs a pending second half and copies what it reads in one submission waited for once, so
-//! that the GPU state is the CPU's after the same number of `Simulation::step` calls.
+//! then one mapping brings back Δt_k and whether the elements set it, how far the particles have
+//! moved since the neighbour lists were built, the status words, the nodes' positions and
+//! velocities, and the hits with their slaves' kinematics, as many as the last steps' most with a
+//! margin (`HitBound`; a step with more reads them in a second round trip). The host applies the λ
+//! correction and the global shift (physics.md §4, `contact::correct`) and writes the corrected
+//! slaves and the node values it changed for the next submission, which builds the neighbour lists
+//! again only when a particle may have moved half the lists' skin (`LIST_SKIN`). `download`
+//! (`sync.rs`) runs a pending second half and copies what it reads in one submission waited for
+//! once, so that the GPU state is the CPU's after the same number of `Simulation::step` calls.
 
 use std::time::Instant;
 
@@ -155,8 +155,9 @@ pub struct StepSetup<'a> {
     pub wall_z: Option<f32>,
     pub escape: f32,
     pub cfl: f32,
-    /// The first step's Δt (from the CPU's start-up evaluation).
+    /// The first step's Δt (from the CPU's start-up evaluation), and whether the elements set it.
     pub dt: f32,
+    pub fem_limited: bool,
     /// The neighbour lists' skin as a fraction of the support (`LIST_SKIN`; 0: every step).
     pub list_skin: f32,
 }
@@ -204,7 +205,7 @@ impl GpuStep {
             has_fem: u32::from(deformable),
         };
         let step_uniform = gpu.uniform("step", &u);
-        let clock = gpu.buffer("clock", &[s.dt.to_bits(), f32::MAX.to_bits()]);
+        let clock = gpu.buffer("clock", &super::timestep::clock_words(s.dt, s.fem_limited));
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let plastic_total = gpu.zeros::<f32>("plastic work", s.projectile.elements.len());
         let acc = Accumulators::new(&gpu, n_particles, s.projectile.nodes.len());
@@ -310,8 +311,11 @@ impl GpuStep {
         let nn = s.projectile.nodes.len() as u64;
         let status_at = 16u64;
         let nodes_at = status_at + 4 * STATUS_WORDS as u64;
+        // The fixed part: the clock's Δt words, then moved² at 8 and the clock's fem_limited
+        // at 12, then the status words.
         let layout = Layout {
             moved2: 8,
+            fem_limited: 12,
             status: status_at,
             nodes: nodes_at,
             hits: nodes_at + 16 * nn,
@@ -524,6 +528,7 @@ impl GpuStep {
         }
         let l = &self.layout;
         encoder.copy_buffer_to_buffer(&self.clock, 0, &self.staging, 0, 8);
+        encoder.copy_buffer_to_buffer(&self.clock, 12, &self.staging, l.fem_limited, 4);
         if let Some(sph) = &self.sph {
             encoder.copy_buffer_to_buffer(
                 &sph.grid.info,
@@ -583,6 +588,7 @@ impl GpuStep {
         let node = |k: usize| floats[at(l.nodes) + k * n..at(l.nodes) + (k + 1) * n].to_vec();
         let mut rb = Readback {
             dt: f32::from_bits(words[0]),
+            fem_limited: words[at(l.fem_limited)] != 0,
             status,
             hits: Vec::new(),
             hit_data: Vec::new(),

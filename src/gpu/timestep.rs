@@ -6,6 +6,17 @@ use super::shader::Program;
 use super::state::{GpuElements, GpuParticles};
 use super::{Gpu, GpuError, Kernel};
 
+/// The clock's first words (params.wgsl `Clock`): the step `dt`, empty running minima, and
+/// whether the elements set `dt`.
+pub fn clock_words(dt: f32, fem_limited: bool) -> [u32; 4] {
+    [
+        dt.to_bits(),
+        f32::MAX.to_bits(),
+        f32::MAX.to_bits(),
+        u32::from(fem_limited),
+    ]
+}
+
 /// The Δt reduction.
 pub struct TimestepPass {
     particle_dt: Option<(Kernel, wgpu::BindGroup)>,

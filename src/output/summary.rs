@@ -115,6 +115,16 @@ pub struct Summary {
     /// Absent on the CPU and in summaries written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gpu_transfers: Option<crate::gpu::traffic::Traffic>,
+    /// Steps whose Δt the projectile's elements set (their least stable step no larger than
+    /// the particles'), and those the target's particles set.
+    #[serde(default)]
+    pub fem_limited_steps: u64,
+    #[serde(default)]
+    pub sph_limited_steps: u64,
+    /// The element or particle whose own stable step is the least at the end: which, where,
+    /// and its state.
+    #[serde(default)]
+    pub smallest_step_at_end: String,
 }
 
 impl Summary {

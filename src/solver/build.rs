@@ -72,6 +72,7 @@ impl Model {
             time: 0.0,
             step: 0,
             dt: 0.0,
+            fem_limited: false,
             account: Account::default(),
             last_hits: 0,
             wall_z: scene.wall.as_ref().map(|_| 0.0),
@@ -110,6 +111,7 @@ impl Simulation {
             escape: m.escape,
             cfl: m.scene.run.cfl as f32,
             dt: m.dt,
+            fem_limited: m.fem_limited,
             list_skin: crate::gpu::step::LIST_SKIN,
         };
         let step =

@@ -69,6 +69,7 @@ impl Model {
         self.forces(dt)?;
         self.time += dt as f64;
         self.step += 1;
+        self.account.count_limit(self.fem_limited);
         self.account.min_dt = self.account.min_dt.min(dt as f64);
         self.account.max_dt = self.account.max_dt.max(dt as f64);
         self.dt = self.stable_dt()?;
@@ -156,17 +157,29 @@ impl Model {
         Ok(())
     }
 
+    /// The next Δt, noting in `fem_limited` whether the elements set it.
     pub(super) fn stable_dt(&mut self) -> Result<f32, RunError> {
-        let mut dt = f32::MAX;
-        if let Some(sph) = &self.sph {
-            dt = dt.min(cpu::timestep::particle_dt(&self.particles, sph));
-        }
-        if self.has(Pass::FemStress) {
-            dt = dt.min(cpu::timestep::element_dt(&self.projectile.elements));
-        }
-        let dt = dt * self.scene.run.cfl as f32;
+        let (sph, fem) = self.least_steps();
+        let dt = sph.min(fem) * self.scene.run.cfl as f32;
         self.check_dt(dt)?;
         Ok(dt)
+    }
+
+    /// The particles' and the elements' least stable steps (f32::MAX for a side the scene does
+    /// not have), noting in `fem_limited` whether the elements' sets Δt: no larger than the
+    /// particles', as shaders/timestep.wgsl decides it.
+    pub(super) fn least_steps(&mut self) -> (f32, f32) {
+        let sph = match &self.sph {
+            Some(sph) => cpu::timestep::particle_dt(&self.particles, sph),
+            None => f32::MAX,
+        };
+        let fem = if self.has(Pass::FemStress) {
+            cpu::timestep::element_dt(&self.projectile.elements)
+        } else {
+            f32::MAX
+        };
+        self.fem_limited = fem <= sph && fem != f32::MAX;
+        (sph, fem)
     }
 
     /// The next step must be positive, finite and bounded: it collapses when the mesh or the

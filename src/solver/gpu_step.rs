@@ -142,6 +142,7 @@ impl Model {
         self.time += dt as f64;
         self.step += 1;
         self.dt = dt;
+        self.account.count_limit(rb.fem_limited);
         self.account.min_dt = self.account.min_dt.min(dt as f64);
         self.account.max_dt = self.account.max_dt.max(dt as f64);
         Ok(())

@@ -80,6 +80,21 @@ pub struct Account {
     pub max_residual_penetration: f32,
     pub min_dt: f64,
     pub max_dt: f64,
+    /// Steps whose Δt the elements set (their least stable step no larger than the
+    /// particles'), and those the particles set: which side to refine or coarsen for speed.
+    pub fem_limited_steps: u64,
+    pub sph_limited_steps: u64,
+}
+
+impl Account {
+    /// Books one step as set by the elements or by the particles.
+    pub fn count_limit(&mut self, fem_limited: bool) {
+        if fem_limited {
+            self.fem_limited_steps += 1;
+        } else {
+            self.sph_limited_steps += 1;
+        }
+    }
 }
 
 /// How much of the host's copy of a GPU run's state is current, least first. A GPU step
@@ -106,6 +121,8 @@ pub struct Model {
     pub time: f64,
     pub step: u64,
     pub dt: f32,
+    /// Whether the elements set `dt` (`stable_dt`).
+    pub fem_limited: bool,
     pub account: Account,
     pub last_hits: usize,
     /// The wall, a Taylor scene's: the model's z = 0 ([`Scene::origin_z`]).

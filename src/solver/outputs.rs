@@ -185,6 +185,9 @@ impl Model {
             max_residual_penetration_m: a.max_residual_penetration as f64,
             neighbour_list_builds: stepper.builds().unwrap_or(0),
             gpu_transfers: stepper.traffic(),
+            fem_limited_steps: a.fem_limited_steps,
+            sph_limited_steps: a.sph_limited_steps,
+            smallest_step_at_end: self.smallest_step_site(),
         }
     }
 }

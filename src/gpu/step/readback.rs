@@ -7,6 +7,8 @@ use super::STATUS_WORDS;
 pub struct Readback {
     /// The Δt this step integrated with.
     pub dt: f32,
+    /// Whether the elements set it (their least stable step no larger than the particles').
+    pub fem_limited: bool,
     pub status: [u32; STATUS_WORDS],
     /// (slave, master) pairs, in the order the GPU appended them.
     pub hits: Vec<(u32, u32)>,
@@ -22,6 +24,7 @@ pub struct Readback {
 /// hits as the read-back's bound (`HitBound`), then their slaves' kinematics.
 pub(super) struct Layout {
     pub moved2: u64,
+    pub fem_limited: u64,
     pub status: u64,
     pub nodes: u64,
     pub hits: u64,

@@ -246,6 +246,8 @@ record!(Account {
     max_residual_penetration,
     min_dt,
     max_dt,
+    fem_limited_steps,
+    sph_limited_steps,
 });
 
 record!(Counters {
