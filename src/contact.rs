@@ -513,19 +513,7 @@ mod tests {
         // A → B along +r: outward normal (Δz, −Δr)/|AB| = (0, −1), a flat nose face.
         let mut s = Setup::new([0.001, -0.002], [0.004, -0.002], 0.5, 1e-4);
         let p0 = s.momentum();
-        let m = s.total_mass();
-        correct(
-            &[Hit {
-                slave: 0,
-                master: 0,
-            }],
-            &[SEG],
-            &[true],
-            &mut s.bodies(),
-            0.2,
-            0.0,
-            m,
-        );
+        one_hit(&mut s, 0.2, 0.0);
         let p1 = s.momentum();
         assert!((p1[1] - p0[1]).abs() < 1e-6 * 300.0);
         assert!(
@@ -543,20 +531,9 @@ mod tests {
         let mut s = Setup::new(a, b, 0.6, 1e-4);
         let before_r = s.nvr.clone();
         let before_z = s.nvz.clone();
-        let m = s.total_mass();
         let ms = s.sm[0] as f64;
-        let stats = correct(
-            &[Hit {
-                slave: 0,
-                master: 0,
-            }],
-            &[SEG],
-            &[true],
-            &mut s.bodies(),
-            0.0,
-            0.0,
-            m,
-        );
+        let m = s.total_mass();
+        let stats = one_hit(&mut s, 0.0, 0.0);
         assert_eq!(
             s.nvr, before_r,
             "no radial change: the projectile moves rigidly"
@@ -595,19 +572,7 @@ mod tests {
         let t = 0.25f64;
         let mut s = Setup::new(a, b, t as f32, 1e-4);
         let before = Setup::new(a, b, t as f32, 1e-4);
-        let m = s.total_mass();
-        correct(
-            &[Hit {
-                slave: 0,
-                master: 0,
-            }],
-            &[SEG],
-            &[true],
-            &mut s.bodies(),
-            1.0,
-            0.0,
-            m,
-        );
+        one_hit(&mut s, 1.0, 0.0);
         let (er, ez) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
         let len = er.hypot(ez);
         let n = [ez / len, -er / len];
@@ -647,19 +612,7 @@ mod tests {
         s.svr[0] = 500.0;
         s.svz[0] = -500.0;
         let (vr, vz) = (s.nvr.clone(), s.nvz.clone());
-        let m = s.total_mass();
-        let stats = correct(
-            &[Hit {
-                slave: 0,
-                master: 0,
-            }],
-            &[SEG],
-            &[true],
-            &mut s.bodies(),
-            0.2,
-            0.0,
-            m,
-        );
+        let stats = one_hit(&mut s, 0.2, 0.0);
         assert_eq!(stats.closing, 0);
         assert_eq!(
             (s.nvr.clone(), s.nvz.clone(), s.svr[0], s.svz[0]),
