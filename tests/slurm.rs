@@ -7,30 +7,12 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+
+use common::{penetrate, root, stderr, stdout};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("penetrate-slurm-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
-fn penetrate(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penetrate"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("the penetrate binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    common::scratch("slurm", name)
 }
 
 /// The smoke scene over three speeds, 10 µs of flight each, on the CPU without frames.

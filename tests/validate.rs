@@ -2,13 +2,11 @@
 //! validation writes every section, and bad input is refused with a message and exit code 2.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::{penetrate, root, stderr};
 
 mod common;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// The measurements, in the repository (`data/`).
 fn data() -> PathBuf {
@@ -16,21 +14,7 @@ fn data() -> PathBuf {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("penetrate-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
-fn penetrate(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penetrate"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("the penetrate binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    common::scratch("test", name)
 }
 
 /// Data rows of a CSV file (its header line excluded).

@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests (each test crate uses some of them).
 #![allow(dead_code)]
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 use penetrate::scene::{Backend, Scene};
 use penetrate::solver::{self, Model, RunOptions, RunOutcome};
@@ -72,4 +73,33 @@ pub fn csv_file(path: &Path) -> (csv::StringRecord, Vec<csv::StringRecord>) {
         .map(|r| r.unwrap_or_else(|e| panic!("{}: {e}", path.display())))
         .collect();
     (header, rows)
+}
+
+/// The repository's root: the shipped cases and data are read from it.
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh folder under the temp dir for one test, `penetrate-<tag>-<pid>-<name>`.
+pub fn scratch(tag: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("penetrate-{tag}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// The built `penetrate` binary with `args`, run from the repository's root.
+pub fn penetrate(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_penetrate"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("the penetrate binary runs")
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
 }
