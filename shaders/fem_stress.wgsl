@@ -1,8 +1,9 @@
-// `fem_stress` (CPU twin: src/cpu/fem_stress.rs, `update_element`): per element, geometry and
-// strain rates of the linear triangle, the Jaumann trial, Johnson–Cook radial return with
-// adiabatic heating and damage, the EOS with the energy predictor, bulk viscosity, the energy,
-// the nodal forces and the stable step (physics.md §2). Needs params.wgsl, step.wgsl,
-// deviator.wgsl, johnson_cook.wgsl and steel_eos.wgsl.
+// `fem_stress` (CPU twin: src/cpu/fem_stress.rs, `run`): one thread per pressure cell, which
+// first sums the cell's shared EOS state (`cell_eos`) and then updates its elements in order
+// (`update_element`): geometry and strain rates of the linear triangle, the Jaumann trial,
+// Johnson–Cook radial return with adiabatic heating and damage, the EOS with the energy
+// predictor, bulk viscosity, the energy, the nodal forces and the stable step (physics.md §2,
+// §2.4). Needs params.wgsl, step.wgsl, deviator.wgsl, johnson_cook.wgsl and steel_eos.wgsl.
 
 @group(0) @binding(0) var<uniform> u: FemUniform;
 @group(0) @binding(1) var<storage, read> clock: Clock;
@@ -31,6 +32,8 @@
 @group(0) @binding(21) var<storage, read_write> plastic_work: array<f32>;
 // Running sum of plastic_work over the steps (J), summed by the host at output time.
 @group(0) @binding(22) var<storage, read_write> plastic_total: array<f32>;
+// Elements.cells: cell c is elements cells[c]..cells[c + 1].
+@group(0) @binding(23) var<storage, read> cells: array<u32>;
 
 // The material has a Johnson–Cook damage model (FemParams::damage): a pipeline constant, so a
 // material without one compiles without the damage update.
@@ -116,11 +119,57 @@ fn write_nodal_forces(e: u32, g: Geometry, s: vec4<f32>) {
     }
 }
 
+fn element_rate(e: u32, g: Geometry) -> StrainRate {
+    let n = vec3<u32>(nodes[3u * e], nodes[3u * e + 1u], nodes[3u * e + 2u]);
+    return strain_rate(g, vec3<f32>(vr[n.x], vr[n.y], vr[n.z]),
+        vec3<f32>(vz[n.x], vz[n.y], vz[n.z]));
+}
+
+// fem_stress::CellEos: the cell's V/V₀ and predicted energy per reference volume; `grouped`
+// false for a cell of one element or one with a failed or inverted element.
+struct CellEos {
+    grouped: bool,
+    rel_volume: f32,
+    e_pred: f32,
+}
+
+// fem_stress::cell_eos: summed in element order, as on the CPU.
+fn cell_eos(first: u32, last: u32, step_dt: f32) -> CellEos {
+    var out = CellEos(false, 0.0, 0.0);
+    if (last - first < 2u) { return out; }
+    var v = 0.0;
+    var v0 = 0.0;
+    var en = 0.0;
+    for (var e = first; e < last; e++) {
+        let g = geometry(e);
+        if (failed[e] != 0u || !(g.two_area > 0.0)) { return out; }
+        let d = element_rate(e, g);
+        let volume = PI * g.r_mean * g.two_area;
+        let s_old = vec4<f32>(s_rr[e], s_zz[e], s_rz[e], s_tt[e]);
+        let old_power = stress_power(total_stress(s_old, p[e]), d);
+        v = v + volume;
+        v0 = v0 + volume0[e];
+        en = en + (energy[e] * volume0[e] + step_dt * volume * old_power);
+    }
+    out = CellEos(true, v / v0, en / v0);
+    return out;
+}
+
 @compute @workgroup_size(WG)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let e = gid.x;
-    if (e >= u.n_elements) { return; }
+    let c = gid.x;
+    if (c >= u.n_cells) { return; }
+    let first = cells[c];
+    let last = cells[c + 1u];
     let step_dt = clock.dt;
+    // Every element's shared state is read before any of them is written.
+    let cell = cell_eos(first, last, step_dt);
+    for (var e = first; e < last; e++) {
+        update_element(e, cell, step_dt);
+    }
+}
+
+fn update_element(e: u32, cell: CellEos, step_dt: f32) {
     let g = geometry(e);
     // Inverted or degenerate (NaN fails the comparison): the host stops the run and names the
     // smallest such element; its state is left as it was, as on the CPU.
@@ -128,18 +177,25 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         atomicMin(&status[STATUS_INVERTED_ELEMENT], e);
         return;
     }
-    let n = vec3<u32>(nodes[3u * e], nodes[3u * e + 1u], nodes[3u * e + 2u]);
-    let d = strain_rate(g, vec3<f32>(vr[n.x], vr[n.y], vr[n.z]),
-        vec3<f32>(vz[n.x], vz[n.y], vz[n.z]));
+    let d = element_rate(e, g);
     let volume = PI * g.r_mean * g.two_area;
     let rel_volume = volume / volume0[e];
-    let rho = u.density / rel_volume;
-    let mu = 1.0 / rel_volume - 1.0;
-    let g_mod = u.shear_modulus;
 
     let s_old = vec4<f32>(s_rr[e], s_zz[e], s_rz[e], s_tt[e]);
     let p_old = p[e];
     let old_power = stress_power(total_stress(s_old, p_old), d);
+    let e_old = energy[e];
+    // The pressure's volume and energy: the cell's, or the element's own with the energy
+    // predicted from the old stress power, eq. (14).
+    var eos_rel = rel_volume;
+    var e_pred = e_old + step_dt * rel_volume * old_power;
+    if (cell.grouped) {
+        eos_rel = cell.rel_volume;
+        e_pred = cell.e_pred;
+    }
+    let rho = u.density / eos_rel;
+    let mu = 1.0 / eos_rel - 1.0;
+    let g_mod = u.shear_modulus;
 
     let rate = vec4<f32>(d.rr, d.zz, 0.5 * d.gamma_rz, d.tt);
     let dev = deviatoric_rate(rate);
@@ -179,9 +235,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
 
-    // EOS with the energy predicted from the old stress power, eq. (14).
-    let e_old = energy[e];
-    let e_pred = e_old + step_dt * rel_volume * old_power;
     let p_eos = steel_eos_pressure(u, mu, e_pred);
     var p_new = p_eos;
     if (is_failed) {
@@ -190,7 +243,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     // An open failed element (cpu::fem_stress::OPEN_RELATIVE_VOLUME) carries no stress and
     // limits the step only by the time it would take to close.
-    let open = is_failed && rel_volume >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
+    let open = is_failed && eos_rel >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
 
     // Bulk viscosity on compression only: it spreads shocks, which only compression forms.
     let length = min_altitude(g);

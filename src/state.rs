@@ -205,6 +205,9 @@ impl Nodes {
 #[derive(Clone, Debug, Default)]
 pub struct Elements {
     pub nodes: Vec<[u32; 3]>,
+    /// Pressure cells as offsets: cell c is elements `cells[c]..cells[c + 1]`, which share one
+    /// pressure (docs/physics.md §2.4); `Elements::pressure_cells` builds them. Static.
+    pub cells: Vec<u32>,
     /// Reference ring volume V₀ (m³).
     pub volume0: Vec<f32>,
     pub s_rr: Vec<f32>,
@@ -237,11 +240,53 @@ impl Elements {
         self.nodes.is_empty()
     }
 
+    /// The pressure cells of a mesh, as offsets (see `cells`): each run of consecutive elements
+    /// whose third node is the same and used by no other element (a crossed-triangle cell's
+    /// centre, in the mesher's order) is one cell; every other element is a cell of its own.
+    pub fn pressure_cells(conn: &[[u32; 3]]) -> Vec<u32> {
+        let n_nodes = conn.iter().flatten().map(|&n| n as usize + 1).max();
+        let mut uses = vec![0usize; n_nodes.unwrap_or(0)];
+        for &n in conn.iter().flatten() {
+            uses[n as usize] += 1;
+        }
+        let mut cells = vec![0u32];
+        let mut e = 0;
+        while e < conn.len() {
+            let centre = conn[e][2];
+            let run = conn[e..].iter().take_while(|el| el[2] == centre).count();
+            let len = if uses[centre as usize] == run { run } else { 1 };
+            e += len;
+            cells.push(e as u32);
+        }
+        cells
+    }
+
+    /// The largest alternation of the triangles' relative volumes J = V/V₀ inside one intact
+    /// crossed-triangle cell, |J₀ − J₁ + J₂ − J₃|/4 (`max_checkerboard`'s cells): the cell mode
+    /// itself, which a shared pressure (docs/physics.md §2.4) no longer shows as a pressure
+    /// swing. K₁ times it is the swing each triangle's own pressure would have.
+    pub fn max_volume_checkerboard(&self, nodes: &Nodes) -> f32 {
+        let j = |k: usize| {
+            crate::mesh::geometry::Geometry::new(&self.nodes[k], &nodes.r, &nodes.z).volume()
+                / self.volume0[k]
+        };
+        self.nodes
+            .chunks_exact(4)
+            .zip(self.failed.chunks_exact(4))
+            .enumerate()
+            .filter(|(_, (cell, failed))| {
+                cell.iter().all(|el| el[2] == cell[0][2]) && failed.iter().all(|&f| f == 0)
+            })
+            .map(|(c, _)| ((j(4 * c) - j(4 * c + 1) + j(4 * c + 2) - j(4 * c + 3)) / 4.0).abs())
+            .fold(0.0, f32::max)
+    }
+
     /// The largest pressure checkerboard inside one crossed-triangle cell (Pa):
     /// |p₀ − p₁ + p₂ − p₃| / 4 over the cells, a cell being four consecutive elements that share
-    /// their third node (its centre, the mesher's order), none of them failed. A smooth field
-    /// gives little; a cell whose triangles take alternating volumes (docs/limitations.md,
-    /// "The nose cell's mode") gives its pressure swing. 0 without such cells.
+    /// their third node (its centre, the mesher's order), none of them failed. 0 in a cell
+    /// whose triangles share one pressure (docs/physics.md §2.4); else a smooth field gives
+    /// little and a cell whose triangles take alternating volumes its pressure swing. 0
+    /// without such cells.
     pub fn max_checkerboard(&self) -> f32 {
         self.nodes
             .chunks_exact(4)
@@ -350,6 +395,7 @@ impl Projectile {
             },
             elements: Elements {
                 nodes: mesh.elements.clone(),
+                cells: Elements::pressure_cells(&mesh.elements),
                 volume0,
                 s_rr: zero.clone(),
                 s_zz: zero.clone(),

@@ -92,6 +92,58 @@ pub struct Inverted {
     pub z: f32,
 }
 
+/// The EOS state the elements of one pressure cell share (docs/physics.md §2.4): the cell's
+/// relative volume V/V₀ and its internal energy per reference volume predicted to the end of
+/// the step from the old stress power, eq. (14) summed over the cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellEos {
+    pub rel_volume: f32,
+    pub e_pred: f32,
+}
+
+/// The shared EOS state of the elements `range`, summed in element order (as the GPU sums);
+/// `None` for a cell of one element, or one with a failed or inverted element: each of its
+/// elements then takes the pressure of its own volume.
+pub fn cell_eos(
+    elements: &Elements,
+    range: std::ops::Range<usize>,
+    nodes: &Nodes,
+    dt: f32,
+) -> Option<CellEos> {
+    if range.len() < 2 {
+        return None;
+    }
+    let (mut v, mut v0, mut e) = (0.0f32, 0.0f32, 0.0f32);
+    for k in range {
+        let el = &elements.nodes[k];
+        let g = Geometry::new(el, &nodes.r, &nodes.z);
+        if elements.failed[k] != 0 || g.two_area.is_nan() || g.two_area <= 0.0 {
+            return None;
+        }
+        let d = element_rate(&g, el, nodes);
+        let volume = g.volume();
+        let s = [
+            elements.s_rr[k],
+            elements.s_zz[k],
+            elements.s_rz[k],
+            elements.s_tt[k],
+        ];
+        let old_power = total_stress(&s, elements.p[k]).power(&d);
+        v += volume;
+        v0 += elements.volume0[k];
+        e += elements.energy[k] * elements.volume0[k] + dt * volume * old_power;
+    }
+    Some(CellEos {
+        rel_volume: v / v0,
+        e_pred: e / v0,
+    })
+}
+
+fn element_rate(g: &Geometry, el: &[u32; 3], nodes: &Nodes) -> StrainRate {
+    let idx = [el[0] as usize, el[1] as usize, el[2] as usize];
+    StrainRate::new(g, idx.map(|n| nodes.vr[n]), idx.map(|n| nodes.vz[n]))
+}
+
 /// Update every element's stress state over `dt` from the nodal velocities and write its
 /// nodal forces and stable time step.
 pub fn run(
@@ -100,8 +152,24 @@ pub fn run(
     params: &FemParams,
     dt: f32,
 ) -> Result<(), Inverted> {
+    let shared: Vec<Option<CellEos>> = {
+        let e: &Elements = elements;
+        e.cells
+            .par_windows(2)
+            .flat_map_iter(|w| {
+                let range = w[0] as usize..w[1] as usize;
+                std::iter::repeat_n(cell_eos(e, range.clone(), nodes, dt), range.len())
+            })
+            .collect()
+    };
+    assert_eq!(
+        shared.len(),
+        elements.len(),
+        "Elements::cells must cover every element"
+    );
     let Elements {
         nodes: conn,
+        cells: _,
         volume0,
         s_rr,
         s_zz,
@@ -133,6 +201,7 @@ pub fn run(
         .zip(force.par_iter_mut())
         .zip(dt_out.par_iter_mut())
         .zip(plastic_work.par_iter_mut())
+        .zip(shared.par_iter())
         .enumerate()
         .map(
             |(
@@ -142,16 +211,22 @@ pub fn run(
                         (
                             (
                                 (
-                                    (((((((((el, &v0), srr), szz), srz), stt), pe), en), ep), temp),
-                                    dmg,
+                                    (
+                                        (
+                                            ((((((((el, &v0), srr), szz), srz), stt), pe), en), ep),
+                                            temp,
+                                        ),
+                                        dmg,
+                                    ),
+                                    fail,
                                 ),
-                                fail,
+                                f,
                             ),
-                            f,
+                            dte,
                         ),
-                        dte,
+                        wp,
                     ),
-                    wp,
+                    &cell,
                 ),
             )| {
                 let mut st = ElementState {
@@ -163,7 +238,7 @@ pub fn run(
                     damage: *dmg,
                     failed: *fail != 0,
                 };
-                let out = update_element(el, v0, nodes, params, dt, &mut st);
+                let out = update_element(el, v0, nodes, params, dt, cell, &mut st);
                 *srr = st.s[0];
                 *szz = st.s[1];
                 *srz = st.s[2];
@@ -232,31 +307,35 @@ pub struct ElementOutput {
     pub plastic_work: f32,
 }
 
-/// One element's constitutive update; `None` when the element is inverted (2A ≤ 0).
+/// One element's constitutive update; `None` when the element is inverted (2A ≤ 0). `cell`:
+/// the EOS state its pressure cell shares (`cell_eos`), or `None` for its own.
 pub fn update_element(
     el: &[u32; 3],
     volume0: f32,
     nodes: &Nodes,
     m: &FemParams,
     dt: f32,
+    cell: Option<CellEos>,
     st: &mut ElementState,
 ) -> Option<ElementOutput> {
     let g = Geometry::new(el, &nodes.r, &nodes.z);
     if g.two_area.is_nan() || g.two_area <= 0.0 {
         return None;
     }
-    let idx = [el[0] as usize, el[1] as usize, el[2] as usize];
-    let vr = idx.map(|n| nodes.vr[n]);
-    let vz = idx.map(|n| nodes.vz[n]);
-    let d = StrainRate::new(&g, vr, vz);
+    let d = element_rate(&g, el, nodes);
     let volume = g.volume();
     let rel_volume = volume / volume0;
-    let rho = m.density / rel_volume;
-    let mu = 1.0 / rel_volume - 1.0;
-    let g_mod = m.shear_modulus;
-
     // Stress at the start of the step, for the trapezoidal power.
     let old = total_stress(&st.s, st.p);
+    // The pressure's volume and energy: the cell's, or the element's own with the energy
+    // predicted to the end of the step from the old stress power (explicit), eq. (14).
+    let eos = cell.unwrap_or(CellEos {
+        rel_volume,
+        e_pred: st.energy + dt * rel_volume * old.power(&d),
+    });
+    let rho = m.density / eos.rel_volume;
+    let mu = 1.0 / eos.rel_volume - 1.0;
+    let g_mod = m.shear_modulus;
 
     // Deviatoric strain rate (θθ included), then the Jaumann-rotated elastic trial.
     let (dev, vol) = deviatoric_rate(d.rr, d.zz, 0.5 * d.gamma_rz, d.tt);
@@ -307,12 +386,9 @@ pub fn update_element(
         }
     }
 
-    // EOS with the energy predicted to the end of the step from the old stress power
-    // (explicit), eq. (14).
-    let e_pred = st.energy + dt * rel_volume * old.power(&d);
-    let p_eos = steel_eos::pressure(&m.eos, mu, e_pred);
+    let p_eos = steel_eos::pressure(&m.eos, mu, eos.e_pred);
     let p = if st.failed { p_eos.max(0.0) } else { p_eos };
-    let open = st.failed && rel_volume >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
+    let open = st.failed && eos.rel_volume >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
 
     // Bulk viscosity on compression only.
     let length = g.min_altitude();
@@ -498,6 +574,136 @@ mod tests {
             // The boundary does feel the pressure: the test is not vacuous.
             assert!(f[0][0].abs() + f[0][1].abs() > 1e-2 * scale);
         }
+    }
+
+    /// The patch's elements at rest, 4340 steel (the Taylor case's), with `cells` from the
+    /// mesh or, when `own`, one cell per element.
+    fn patch_model(r0: f32, own: bool) -> (Nodes, Elements, FemParams) {
+        let scene = crate::scene::load(std::path::Path::new("cases/taylor-4340-208.toml"), &[])
+            .expect("taylor case");
+        let params = FemParams::new(&scene.model_projectile().material);
+        let (r, z, conn, _) = patch(r0, 0.0);
+        let n = r.len();
+        let volume0 = conn
+            .iter()
+            .map(|el| Geometry::new(el, &r, &z).volume())
+            .collect();
+        let ne = conn.len();
+        let cells = if own {
+            (0..=ne as u32).collect()
+        } else {
+            Elements::pressure_cells(&conn)
+        };
+        let zero = vec![0.0; ne];
+        let elements = Elements {
+            nodes: conn,
+            cells,
+            volume0,
+            s_rr: zero.clone(),
+            s_zz: zero.clone(),
+            s_rz: zero.clone(),
+            s_tt: zero.clone(),
+            p: zero.clone(),
+            energy: zero.clone(),
+            eps_p: zero.clone(),
+            temperature: vec![295.0; ne],
+            damage: zero.clone(),
+            failed: vec![0; ne],
+            force: vec![[0.0; 6]; ne],
+            dt: vec![f32::MAX; ne],
+            plastic_work: zero,
+        };
+        let nodes = Nodes {
+            r,
+            z,
+            vr: vec![0.0; n],
+            vz: vec![0.0; n],
+            ..Nodes::default()
+        };
+        (nodes, elements, params)
+    }
+
+    /// The patch's four quads are four cells of four triangles; a triangle fan whose centre
+    /// another element also uses is not a cell.
+    #[test]
+    fn pressure_cells_are_the_crossed_quads() {
+        let (_, _, conn, _) = patch(0.0, 0.0);
+        assert_eq!(Elements::pressure_cells(&conn), vec![0, 4, 8, 12, 16]);
+        let fan = [[0, 1, 9], [1, 2, 9], [2, 3, 9], [3, 9, 4], [4, 5, 6]];
+        assert_eq!(Elements::pressure_cells(&fan), vec![0, 1, 2, 3, 4, 5]);
+        assert_eq!(Elements::pressure_cells(&[]), vec![0]);
+    }
+
+    /// A patch compressed uniformly (every length 1 % shorter), with one quad's centre node then moved
+    /// sideways by 1 % of the quad: the mode that shrinks one of its triangles and swells the
+    /// opposite one while the quad's volume stays the same. Each element on its own takes the
+    /// pressure of its own volume, which swings by several GPa; a cell shares one, the EOS of
+    /// the cell's volume, which the centre's position does not change, so the moved quad
+    /// carries the homogeneous pressure like the others.
+    #[test]
+    fn a_cell_shares_the_pressure_of_its_volume() {
+        let run_patch = |own: bool, failed: Option<usize>| {
+            let (mut nodes, mut elements, params) = patch_model(0.05, own);
+            for k in 0..nodes.len() {
+                nodes.r[k] *= 0.99;
+                nodes.z[k] *= 0.99;
+            }
+            // Node 9 is the first quad's centre.
+            nodes.r[9] += 2.0e-5;
+            if let Some(k) = failed {
+                elements.failed[k] = 1;
+            }
+            run(&mut elements, &nodes, &params, 1.0e-9).expect("not inverted");
+            elements
+        };
+        let swing = |p: &[f32]| {
+            p.iter().fold(f32::MIN, |a, &b| a.max(b)) - p.iter().fold(f32::MAX, |a, &b| a.min(b))
+        };
+        let own = run_patch(true, None);
+        let cells = run_patch(false, None);
+        let p_homogeneous = own.p[4];
+        assert!(p_homogeneous > 1.0e8, "compressed: {p_homogeneous}");
+        // f32 positions resolve a triangle's volume to ~1e-6, a few 1e-4 of μ ≈ 0.03.
+        let round_off = 2.0e-3 * p_homogeneous;
+        assert!(swing(&own.p[4..8]) < round_off, "{:?}", &own.p[4..8]);
+        assert!(
+            swing(&own.p[0..4]) > 0.5 * p_homogeneous,
+            "own: {:?}",
+            &own.p[0..4]
+        );
+        for c in 0..4 {
+            let p = &cells.p[4 * c..4 * c + 4];
+            assert!(p.iter().all(|&x| x == p[0]), "cell {c}: {p:?}");
+            assert!(
+                (p[0] - p_homogeneous).abs() < round_off,
+                "cell {c}: {} vs {p_homogeneous}",
+                p[0]
+            );
+        }
+        // A failed element takes its cell back to the elements' own pressures (its own floored
+        // at zero, a failed element's rule); the other cells are as before.
+        let one_failed = run_patch(false, Some(1));
+        for k in 0..4 {
+            let expected = if k == 1 { own.p[k].max(0.0) } else { own.p[k] };
+            assert_eq!(one_failed.p[k], expected, "element {k}");
+        }
+        assert_eq!(&one_failed.p[4..], &cells.p[4..]);
+    }
+
+    /// The volume checkerboard reads a cell's + − + − alternation of V/V₀ and leaves out a
+    /// cell with a failed triangle.
+    #[test]
+    fn volume_checkerboard_reads_the_alternation() {
+        let (nodes, mut elements, _) = patch_model(0.05, false);
+        assert!(elements.max_volume_checkerboard(&nodes) < 1.0e-6);
+        for (k, f) in [1.0, 1.02, 1.0, 1.02].into_iter().enumerate() {
+            elements.volume0[k] *= f;
+        }
+        // J = 1, 1/1.02, 1, 1/1.02: (2 − 2/1.02)/4.
+        let expected = (2.0 - 2.0 / 1.02) / 4.0;
+        assert!((elements.max_volume_checkerboard(&nodes) - expected).abs() < 1.0e-5);
+        elements.failed[0] = 1;
+        assert!(elements.max_volume_checkerboard(&nodes) < 1.0e-6);
     }
 
     /// A rigid translation along z gives zero strain rate and no stress.

@@ -12,13 +12,14 @@ use super::{Gpu, GpuError, Kernel};
 pub struct FemStressPass {
     kernel: Kernel,
     bind: wgpu::BindGroup,
-    n_elements: u32,
+    n_cells: u32,
 }
 
 impl FemStressPass {
     /// `fem_uniform` holds a `params::FemUniform`, `clock` the step's `Clock`, `status` the
     /// step's status words, `plastic_total` one f32 per element; `damage`: the material has
-    /// Johnson–Cook damage (the update is compiled out otherwise).
+    /// Johnson–Cook damage (the update is compiled out otherwise); `n_cells`: the pressure
+    /// cells in `elements.cells`.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
@@ -26,6 +27,7 @@ impl FemStressPass {
         elements: &GpuElements,
         fem_uniform: &wgpu::Buffer,
         damage: bool,
+        n_cells: usize,
         clock: &wgpu::Buffer,
         status: &wgpu::Buffer,
         plastic_total: &wgpu::Buffer,
@@ -62,18 +64,19 @@ impl FemStressPass {
                 ("dt", &e.dt),
                 ("plastic_work", &e.plastic_work),
                 ("plastic_total", plastic_total),
+                ("cells", &e.cells),
             ],
         )?;
         Ok(FemStressPass {
             kernel,
             bind,
-            n_elements: e.len as u32,
+            n_cells: n_cells as u32,
         })
     }
 
-    /// Record `fem_stress`: one thread per element.
+    /// Record `fem_stress`: one thread per pressure cell.
     pub fn record(&self, pass: &mut wgpu::ComputePass) {
-        self.kernel.dispatch(pass, &self.bind, self.n_elements);
+        self.kernel.dispatch(pass, &self.bind, self.n_cells);
     }
 }
 
@@ -302,7 +305,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         ] {
             let cases = law_cases();
             let flat: Vec<f32> = cases.iter().flatten().copied().collect();
-            let uniform = gpu.uniform("fem", &FemUniform::new(&m, cases.len(), 0));
+            let uniform = gpu.uniform("fem", &FemUniform::new(&m, cases.len(), 0, 0));
             let input = gpu.buffer("cases", &flat);
             let output = gpu.zeros::<f32>("out", 12 * cases.len());
             let src = shader::source(&fem_stress_parts(LAW_KERNEL));
@@ -403,7 +406,15 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(dt, false));
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let plastic_total = gpu.buffer("plastic total", plastic_start);
-        let uniform = gpu.uniform("fem", &FemUniform::new(params, elements.len(), nodes.len()));
+        let uniform = gpu.uniform(
+            "fem",
+            &FemUniform::new(
+                params,
+                elements.len(),
+                nodes.len(),
+                elements.cells.len() - 1,
+            ),
+        );
         let damage = params.damage.is_some();
         let stress_pass = FemStressPass::new(
             gpu,
@@ -411,6 +422,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             &ge,
             &uniform,
             damage,
+            elements.cells.len() - 1,
             &clock,
             &status,
             &plastic_total,
@@ -526,6 +538,22 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 n[5]
             );
             assert!(n.iter().all(|&c| c > 0), "Taylor state too tame: {n:?}");
+            // Both kinds of pressure cell: shared, and back to the elements' own (a failed
+            // element in it).
+            let shared = before
+                .cells
+                .windows(2)
+                .filter(|w| {
+                    let range = w[0] as usize..w[1] as usize;
+                    crate::cpu::fem_stress::cell_eos(&before, range, nodes, sim.dt).is_some()
+                })
+                .count();
+            let cells = before.cells.len() - 1;
+            eprintln!("fem_stress: {shared} of {cells} pressure cells share one pressure");
+            assert!(
+                shared > 0 && shared < cells,
+                "{shared} of {cells} cells shared"
+            );
 
             let gpu_out = run_gpu(
                 &gpu,

@@ -131,10 +131,12 @@ impl SphUniform {
 }
 
 uniform_block! {
-/// `FemUniform`: the projectile material (FemParams) and the element and node counts.
+/// `FemUniform`: the projectile material (FemParams) and the element, node and cell counts.
 pub struct FemUniform {
     pub n_elements: u32,
     pub n_nodes: u32,
+    /// Pressure cells (`Elements::cells`): fem_stress's threads.
+    pub n_cells: u32,
     pub density: f32,
     pub shear_modulus: f32,
     pub specific_heat: f32,
@@ -173,7 +175,7 @@ pub struct FemUniform {
 }
 
 impl FemUniform {
-    pub fn new(p: &FemParams, n_elements: usize, n_nodes: usize) -> FemUniform {
+    pub fn new(p: &FemParams, n_elements: usize, n_nodes: usize, n_cells: usize) -> FemUniform {
         let s = p.strength;
         let d = p.damage;
         // The other law's constants are zero: the shader reads only those of `flow_law`.
@@ -184,6 +186,7 @@ impl FemUniform {
         FemUniform {
             n_elements: n_elements as u32,
             n_nodes: n_nodes as u32,
+            n_cells: n_cells as u32,
             density: p.density,
             shear_modulus: p.shear_modulus,
             specific_heat: p.specific_heat,

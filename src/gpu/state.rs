@@ -65,7 +65,7 @@ mirror!(GpuNodes, Nodes, len = r, [
 ]);
 
 mirror!(GpuElements, Elements, len = nodes, [
-    nodes: [u32; 3], volume0: f32, s_rr: f32, s_zz: f32, s_rz: f32, s_tt: f32, p: f32,
+    nodes: [u32; 3], cells: u32, volume0: f32, s_rr: f32, s_zz: f32, s_rz: f32, s_tt: f32, p: f32,
     energy: f32, eps_p: f32, temperature: f32, damage: f32, failed: u32, force: [f32; 6],
     dt: f32, plastic_work: f32,
 ]);

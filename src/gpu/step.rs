@@ -272,7 +272,11 @@ impl GpuStep {
             None => None,
         };
         let fem = if deformable {
-            let uniform = gpu.uniform("fem", &FemUniform::new(s.fem, elements.len, nodes.len));
+            let n_cells = s.projectile.elements.cells.len() - 1;
+            let uniform = gpu.uniform(
+                "fem",
+                &FemUniform::new(s.fem, elements.len, nodes.len, n_cells),
+            );
             Some(FemPasses {
                 stress: FemStressPass::new(
                     &gpu,
@@ -280,6 +284,7 @@ impl GpuStep {
                     &elements,
                     &uniform,
                     s.fem.damage.is_some(),
+                    n_cells,
                     &clock,
                     &status,
                     &plastic_total,

@@ -68,6 +68,10 @@ pub struct Summary {
     /// `Elements::max_checkerboard`). 0 in summaries written before it existed.
     #[serde(default)]
     pub checkerboard_pa: f64,
+    /// Largest alternation of the triangles' relative volumes in a cell at the end
+    /// (`Elements::max_volume_checkerboard`). 0 in summaries written before it existed.
+    #[serde(default)]
+    pub volume_checkerboard: f64,
     pub final_length_m: f64,
     pub max_radius_m: f64,
     /// Axial impulse the contact gave the projectile over the run (N s, +z against a flight
@@ -168,6 +172,7 @@ impl Summary {
                 self.max_plastic_strain,
                 self.max_plastic_strain_shank,
                 self.checkerboard_pa,
+                self.volume_checkerboard,
                 self.min_dt_s,
                 self.max_slave_penetration_m,
                 self.max_residual_penetration_m,

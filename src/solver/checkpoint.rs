@@ -45,7 +45,7 @@ use crate::state::{Elements, Nodes, Particles};
 
 /// The format's version: raised whenever the payload changes, so that an older file is
 /// refused by name rather than misread.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 
 const MAGIC: [u8; 8] = *b"PENETRST";
 
@@ -408,6 +408,7 @@ impl Restart {
             }
         }
         (s.elements.nodes != p.elements.nodes
+            || s.elements.cells != p.elements.cells
             || s.nodes.elem_offsets != p.nodes.elem_offsets
             || s.nodes.elem_refs != p.nodes.elem_refs)
             .then(|| "its projectile's mesh is not the one this scene builds".into())

@@ -151,6 +151,11 @@ impl Model {
             max_plastic_strain: self.max_plastic_strain(),
             max_plastic_strain_shank: self.max_plastic_strain_shank(),
             checkerboard_pa: self.projectile.elements.max_checkerboard() as f64,
+            volume_checkerboard: self
+                .projectile
+                .elements
+                .max_volume_checkerboard(&self.projectile.nodes)
+                as f64,
             final_length_m: body.length,
             max_radius_m: body.radius,
             contact_impulse_n_s: a.contact_impulse,

@@ -334,6 +334,7 @@ arrays!(Nodes {
 
 arrays!(Elements {
     nodes,
+    cells,
     volume0,
     s_rr,
     s_zz,
