@@ -261,41 +261,39 @@ impl Elements {
         cells
     }
 
+    /// The intact four-triangle cells (none failed), as element ranges: where a cell can take
+    /// the + − + − pattern of `max_checkerboard` and `max_volume_checkerboard`.
+    fn intact_quads(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+        self.cells
+            .windows(2)
+            .map(|w| w[0] as usize..w[1] as usize)
+            .filter(|c| c.len() == 4 && self.failed[c.clone()].iter().all(|&f| f == 0))
+    }
+
     /// The largest alternation of the triangles' relative volumes J = V/V₀ inside one intact
-    /// crossed-triangle cell, |J₀ − J₁ + J₂ − J₃|/4 (`max_checkerboard`'s cells): the cell mode
-    /// itself, which a shared pressure (docs/physics.md §2.4) no longer shows as a pressure
-    /// swing. K₁ times it is the swing each triangle's own pressure would have.
+    /// four-triangle cell, |J₀ − J₁ + J₂ − J₃|/4: the cell mode itself, which a shared pressure
+    /// (docs/physics.md §2.4) no longer shows as a pressure swing. K₁ times it is the swing
+    /// each triangle's own pressure would have.
     pub fn max_volume_checkerboard(&self, nodes: &Nodes) -> f32 {
         let j = |k: usize| {
             crate::mesh::geometry::Geometry::new(&self.nodes[k], &nodes.r, &nodes.z).volume()
                 / self.volume0[k]
         };
-        self.nodes
-            .chunks_exact(4)
-            .zip(self.failed.chunks_exact(4))
-            .enumerate()
-            .filter(|(_, (cell, failed))| {
-                cell.iter().all(|el| el[2] == cell[0][2]) && failed.iter().all(|&f| f == 0)
-            })
-            .map(|(c, _)| ((j(4 * c) - j(4 * c + 1) + j(4 * c + 2) - j(4 * c + 3)) / 4.0).abs())
+        self.intact_quads()
+            .map(|c| ((j(c.start) - j(c.start + 1) + j(c.start + 2) - j(c.start + 3)) / 4.0).abs())
             .fold(0.0, f32::max)
     }
 
-    /// The largest pressure checkerboard inside one crossed-triangle cell (Pa):
-    /// |p₀ − p₁ + p₂ − p₃| / 4 over the cells, a cell being four consecutive elements that share
-    /// their third node (its centre, the mesher's order), none of them failed. 0 in a cell
-    /// whose triangles share one pressure (docs/physics.md §2.4); else a smooth field gives
-    /// little and a cell whose triangles take alternating volumes its pressure swing. 0
-    /// without such cells.
+    /// The largest pressure checkerboard inside one intact four-triangle cell (Pa),
+    /// |p₀ − p₁ + p₂ − p₃|/4. 0 where the triangles share one pressure (docs/physics.md §2.4);
+    /// else a smooth field gives little and a cell whose triangles take alternating volumes
+    /// its pressure swing. 0 without such cells.
     pub fn max_checkerboard(&self) -> f32 {
-        self.nodes
-            .chunks_exact(4)
-            .zip(self.p.chunks_exact(4))
-            .zip(self.failed.chunks_exact(4))
-            .filter(|((cell, _), failed)| {
-                cell.iter().all(|el| el[2] == cell[0][2]) && failed.iter().all(|&f| f == 0)
+        self.intact_quads()
+            .map(|c| {
+                let p = &self.p[c];
+                ((p[0] - p[1] + p[2] - p[3]) / 4.0).abs()
             })
-            .map(|((_, p), _)| ((p[0] - p[1] + p[2] - p[3]) / 4.0).abs())
             .fold(0.0, f32::max)
     }
 }
@@ -448,6 +446,7 @@ mod tests {
         let mut failed = vec![0u32; 16];
         failed[9] = 1;
         let e = Elements {
+            cells: Elements::pressure_cells(&nodes),
             nodes,
             p: p.to_vec(),
             failed,
