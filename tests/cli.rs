@@ -104,3 +104,33 @@ fn a_scene_outside_the_validated_scope_is_told_so() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A penetration that reaches its end time with the projectile still going (the smoke scene
+/// stops after 20 µs at 299 m/s) says that its depth is not final.
+#[test]
+fn a_penetration_cut_short_says_its_depth_is_not_final() {
+    let dir = scratch("unfinished");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penetrate"))
+        .current_dir(root())
+        .args([
+            "run",
+            "cases/smoke.toml",
+            "--quiet",
+            "--no-vtk",
+            "--backend",
+            "cpu",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let text =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("warning: the projectile still moves at 298.")
+            && text.contains("m/s at the end time, so the depth is not final"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -117,6 +117,13 @@ pub fn run(args: RunArgs) -> ExitCode {
                     fixed(s.depth_m, 4),
                     fixed(s.projectile_velocity_m_s, 1)
                 );
+                if let Some(v) = s.unfinished_penetration(scene.projectile.velocity) {
+                    say!(
+                        "warning: the projectile still moves at {} m/s at the end time, so the \
+                         depth is not final; raise run.end_time",
+                        fixed(v, 1)
+                    );
+                }
             } else {
                 say!(
                     "final length {:.3} mm, max radius {:.3} mm",

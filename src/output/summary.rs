@@ -38,6 +38,9 @@ fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
+/// The stop reason of a run that reached its end time (`Summary::stop_reason`).
+pub const END_TIME_REACHED: &str = "end time reached";
+
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Summary {
     pub scene: String,
@@ -132,6 +135,14 @@ pub struct Summary {
 }
 
 impl Summary {
+    /// The projectile's forward speed (m/s) when a penetration ran out of time before it came
+    /// to rest: its depth is then not final. `None` when it stopped, or was still moving at no
+    /// more than 1 % of `striking` m/s.
+    pub fn unfinished_penetration(&self, striking: f64) -> Option<f64> {
+        (self.stop_reason == END_TIME_REACHED && self.projectile_velocity_m_s > 0.01 * striking)
+            .then_some(self.projectile_velocity_m_s)
+    }
+
     /// Whether the numbers could have come from a run: all finite, lengths, mass and times
     /// positive, damage in [0, 1]. A `summary.json` edited or damaged after the run fails it,
     /// and `--resume` runs again rather than report its numbers.
@@ -202,4 +213,36 @@ pub struct EnergySummary {
     pub plastic_work_projectile: f64,
     pub contact_dissipated: f64,
     pub wall_dissipated: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Only a run cut off by its end time with the projectile still going forward faster than
+    /// 1 % of its striking speed has an unfinished depth.
+    #[test]
+    fn an_unfinished_penetration_is_one_cut_off_while_moving() {
+        let at = |reason: &str, v: f64| Summary {
+            stop_reason: reason.into(),
+            projectile_velocity_m_s: v,
+            ..Summary::default()
+        };
+        assert_eq!(
+            at(END_TIME_REACHED, 19.7).unfinished_penetration(445.0),
+            Some(19.7)
+        );
+        assert_eq!(
+            at(END_TIME_REACHED, 4.0).unfinished_penetration(445.0),
+            None
+        );
+        assert_eq!(
+            at(END_TIME_REACHED, -3.0).unfinished_penetration(445.0),
+            None
+        );
+        assert_eq!(
+            at("projectile at rest", 19.7).unfinished_penetration(445.0),
+            None
+        );
+    }
 }

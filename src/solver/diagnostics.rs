@@ -118,7 +118,7 @@ impl Model {
     /// Why the run should stop now, if it should.
     pub(super) fn stop_reason(&self) -> Option<&'static str> {
         if self.time >= self.scene.run.end_time {
-            return Some("end time reached");
+            return Some(crate::output::summary::END_TIME_REACHED);
         }
         if self.scene.run.stop_at_rest {
             if let Some(t) = &self.scene.target {

@@ -249,7 +249,12 @@ fn depth_section(
         let v = c.shot.velocity;
         let k = sets.iter().position(|s| *s == c.shot.set).unwrap_or(0);
         let predicted = c.equation()?.depth(v);
-        let depth = r.completed().map(|s| s.depth_m);
+        // A shot still moving at its end time has no final depth: it does not count.
+        let moving = r.completed().and_then(|s| s.unfinished_penetration(v));
+        let depth = r
+            .completed()
+            .filter(|_| moving.is_none())
+            .map(|s| s.depth_m);
         let error = depth.map(|d| d / c.shot.depth - 1.0);
         let vs_equation = depth.zip(predicted).map(|(d, p)| d / p - 1.0);
         errors.push(ShotError {
@@ -275,7 +280,10 @@ fn depth_section(
             or_dash(s, |s| s.depth_m.to_string()),
             or_dash(error, |e| e.to_string()),
             or_dash(vs_equation, |e| e.to_string()),
-            r.status().to_string(),
+            match moving {
+                Some(speed) => format!("still moving at {speed} m/s"),
+                None => r.status().to_string(),
+            },
             or_dash(s, |s| s.particles.to_string()),
             or_dash(s, |s| s.elements.to_string()),
             or_dash(s, |s| s.steps.to_string()),
@@ -291,7 +299,10 @@ fn depth_section(
             or_dash(error, pct),
             or_dash(vs_equation, pct),
             or_dash(s, |s| format!("{:.0}", s.wall_s)),
-            r.status().to_string(),
+            match moving {
+                Some(speed) => format!("still moving at {speed:.1} m/s at the end time"),
+                None => r.status().to_string(),
+            },
         ];
         if several {
             row.insert(0, format!("`{}`", c.shot.set));
