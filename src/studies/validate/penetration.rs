@@ -249,8 +249,12 @@ fn depth_section(
         let v = c.shot.velocity;
         let k = sets.iter().position(|s| *s == c.shot.set).unwrap_or(0);
         let predicted = c.equation()?.depth(v);
-        // A shot still moving at its end time has no final depth: it does not count.
-        let moving = r.completed().and_then(|s| s.unfinished_penetration(v));
+        // A shot still moving at its end time has no final depth: it does not count (a quick
+        // run cuts every shot short on purpose).
+        let moving = r
+            .completed()
+            .and_then(|s| s.unfinished_penetration(v))
+            .filter(|_| !ctx.settings.quick);
         let depth = r
             .completed()
             .filter(|_| moving.is_none())
@@ -280,14 +284,16 @@ fn depth_section(
             or_dash(s, |s| s.depth_m.to_string()),
             or_dash(error, |e| e.to_string()),
             or_dash(vs_equation, |e| e.to_string()),
-            match moving {
-                Some(speed) => format!("still moving at {speed} m/s"),
-                None => r.status().to_string(),
-            },
+            r.status().to_string(),
+            or_dash(moving, |v| v.to_string()),
             or_dash(s, |s| s.particles.to_string()),
             or_dash(s, |s| s.elements.to_string()),
             or_dash(s, |s| s.steps.to_string()),
             or_dash(s, |s| s.wall_s.to_string()),
+            or_dash(s, |s| s.max_plastic_strain.to_string()),
+            or_dash(s, |s| s.max_damage.to_string()),
+            or_dash(s, |s| s.checkerboard_pa.to_string()),
+            or_dash(s, |s| s.volume_checkerboard.to_string()),
             ctx.rel(&r.dir),
         ]);
         let mut row = vec![
@@ -298,6 +304,8 @@ fn depth_section(
             or_dash(s, |s| format!("{:.3}", s.depth_m)),
             or_dash(error, pct),
             or_dash(vs_equation, pct),
+            or_dash(s, |s| format!("{:.3}", s.max_plastic_strain)),
+            or_dash(s, |s| format!("{:.3}", s.max_damage)),
             or_dash(s, |s| format!("{:.0}", s.wall_s)),
             match moving {
                 Some(speed) => format!("still moving at {speed:.1} m/s at the end time"),
@@ -344,10 +352,15 @@ fn depth_section(
             "error_vs_measured",
             "error_vs_equation",
             "status",
+            "still_moving_m_s",
             "particles",
             "elements",
             "steps",
             "wall_s",
+            "max_plastic_strain",
+            "max_damage",
+            "checkerboard_pa",
+            "volume_checkerboard",
             "dir",
         ],
         &rows,
@@ -418,6 +431,8 @@ fn depth_section(
         "simulated (m)",
         "vs measured",
         "vs equation",
+        "plastic strain",
+        "damage",
         "wall (s)",
         "status",
     ];
@@ -425,6 +440,9 @@ fn depth_section(
         header.insert(0, "set");
     }
     md += &table(&header, &table_rows);
+    md += "\nPlastic strain and damage: the projectile's largest at the end. The CSV adds the \
+           pressure checkerboard and the cells' volume alternation (`summary.json`'s \
+           `checkerboard_pa`, `volume_checkerboard`).\n\n";
     md += &plot;
     md += &resistance;
     Ok((
