@@ -16,10 +16,20 @@ fn scratch(name: &str) -> PathBuf {
 
 /// `penetrate run cases/CASE --quiet --no-vtk --out DIR` with `args`, 0.1 µs of flight.
 fn run(case: &str, dir: &Path, args: &[&str]) -> Output {
+    run_whole(case, dir, &[&["--set", "run.end_time=1e-7"], args].concat())
+}
+
+/// `penetrate run cases/CASE --quiet --no-vtk --out DIR` with `args`.
+fn run_whole(case: &str, dir: &Path, args: &[&str]) -> Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_penetrate"))
         .current_dir(root())
-        .args(["run", &format!("cases/{case}"), "--quiet", "--no-vtk"])
-        .args(["--set", "run.end_time=1e-7", "--out"])
+        .args([
+            "run",
+            &format!("cases/{case}"),
+            "--quiet",
+            "--no-vtk",
+            "--out",
+        ])
         .arg(dir)
         .args(args)
         .output()
@@ -110,20 +120,7 @@ fn a_scene_outside_the_validated_scope_is_told_so() {
 #[test]
 fn a_penetration_cut_short_says_its_depth_is_not_final() {
     let dir = scratch("unfinished");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penetrate"))
-        .current_dir(root())
-        .args([
-            "run",
-            "cases/smoke.toml",
-            "--quiet",
-            "--no-vtk",
-            "--backend",
-            "cpu",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
+    let out = run_whole("smoke.toml", &dir, &["--backend", "cpu"]);
     let text =
         String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{text}");

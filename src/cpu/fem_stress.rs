@@ -582,45 +582,21 @@ mod tests {
         let scene = crate::scene::load(std::path::Path::new("cases/taylor-4340-208.toml"), &[])
             .expect("taylor case");
         let params = FemParams::new(&scene.model_projectile().material);
-        let (r, z, conn, _) = patch(r0, 0.0);
-        let n = r.len();
-        let volume0 = conn
-            .iter()
-            .map(|el| Geometry::new(el, &r, &z).volume())
-            .collect();
-        let ne = conn.len();
-        let cells = if own {
-            (0..=ne as u32).collect()
-        } else {
-            Elements::pressure_cells(&conn)
+        let (r, z, elements, _) = patch(r0, 0.0);
+        let mesh = crate::mesh::ProjectileMesh {
+            node_mass: vec![1.0; r.len()],
+            node_r: r,
+            node_z: z,
+            elements,
+            masters: Vec::new(),
+            total_mass: 0.0,
+            filler_mass: 0.0,
         };
-        let zero = vec![0.0; ne];
-        let elements = Elements {
-            nodes: conn,
-            cells,
-            volume0,
-            s_rr: zero.clone(),
-            s_zz: zero.clone(),
-            s_rz: zero.clone(),
-            s_tt: zero.clone(),
-            p: zero.clone(),
-            energy: zero.clone(),
-            eps_p: zero.clone(),
-            temperature: vec![295.0; ne],
-            damage: zero.clone(),
-            failed: vec![0; ne],
-            force: vec![[0.0; 6]; ne],
-            dt: vec![f32::MAX; ne],
-            plastic_work: zero,
-        };
-        let nodes = Nodes {
-            r,
-            z,
-            vr: vec![0.0; n],
-            vz: vec![0.0; n],
-            ..Nodes::default()
-        };
-        (nodes, elements, params)
+        let mut p = crate::state::Projectile::from_mesh(&mesh, 0.0, 295.0);
+        if own {
+            p.elements.cells = (0..=p.elements.len() as u32).collect();
+        }
+        (p.nodes, p.elements, params)
     }
 
     /// The patch's four quads are four cells of four triangles; a triangle fan whose centre
