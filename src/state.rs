@@ -206,7 +206,8 @@ impl Nodes {
 pub struct Elements {
     pub nodes: Vec<[u32; 3]>,
     /// Pressure cells as offsets: cell c is elements `cells[c]..cells[c + 1]`, which share one
-    /// pressure (docs/physics.md §2.4); `Elements::pressure_cells` builds them. Static.
+    /// pressure (docs/physics.md §2.4): the mesh's cells (`Elements::pressure_cells`) with
+    /// `projectile.cell_pressure`, else one per element. Static.
     pub cells: Vec<u32>,
     /// Reference ring volume V₀ (m³).
     pub volume0: Vec<f32>,
@@ -261,13 +262,15 @@ impl Elements {
         cells
     }
 
-    /// The intact four-triangle cells (none failed), as element ranges: where a cell can take
-    /// the + − + − pattern of `max_checkerboard` and `max_volume_checkerboard`.
-    fn intact_quads(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
-        self.cells
+    /// The mesh's intact four-triangle cells (none failed), as element ranges, whether or not
+    /// they share a pressure: where a cell can take the + − + − pattern of `max_checkerboard`
+    /// and `max_volume_checkerboard`.
+    fn intact_quads(&self) -> Vec<std::ops::Range<usize>> {
+        Self::pressure_cells(&self.nodes)
             .windows(2)
             .map(|w| w[0] as usize..w[1] as usize)
             .filter(|c| c.len() == 4 && self.failed[c.clone()].iter().all(|&f| f == 0))
+            .collect()
     }
 
     /// The largest alternation of the triangles' relative volumes J = V/V₀ inside one intact
@@ -280,6 +283,7 @@ impl Elements {
                 / self.volume0[k]
         };
         self.intact_quads()
+            .into_iter()
             .map(|c| ((j(c.start) - j(c.start + 1) + j(c.start + 2) - j(c.start + 3)) / 4.0).abs())
             .fold(0.0, f32::max)
     }
@@ -290,6 +294,7 @@ impl Elements {
     /// its pressure swing. 0 without such cells.
     pub fn max_checkerboard(&self) -> f32 {
         self.intact_quads()
+            .into_iter()
             .map(|c| {
                 let p = &self.p[c];
                 ((p[0] - p[1] + p[2] - p[3]) / 4.0).abs()
@@ -347,8 +352,14 @@ pub struct Projectile {
 }
 
 impl Projectile {
-    /// Projectile at rest in its reference state, moving at `velocity` along −z, at `t_room`.
-    pub fn from_mesh(mesh: &ProjectileMesh, velocity: f32, t_room: f32) -> Projectile {
+    /// Projectile at rest in its reference state, moving at `velocity` along −z, at `t_room`;
+    /// `cell_pressure`: the mesh's cells share one pressure (else each element is its own cell).
+    pub fn from_mesh(
+        mesh: &ProjectileMesh,
+        velocity: f32,
+        t_room: f32,
+        cell_pressure: bool,
+    ) -> Projectile {
         let nn = mesh.node_r.len();
         let ne = mesh.elements.len();
         let mut counts = vec![0u32; nn + 1];
@@ -393,7 +404,11 @@ impl Projectile {
             },
             elements: Elements {
                 nodes: mesh.elements.clone(),
-                cells: Elements::pressure_cells(&mesh.elements),
+                cells: if cell_pressure {
+                    Elements::pressure_cells(&mesh.elements)
+                } else {
+                    (0..=ne as u32).collect()
+                },
                 volume0,
                 s_rr: zero.clone(),
                 s_zz: zero.clone(),
@@ -446,7 +461,6 @@ mod tests {
         let mut failed = vec![0u32; 16];
         failed[9] = 1;
         let e = Elements {
-            cells: Elements::pressure_cells(&nodes),
             nodes,
             p: p.to_vec(),
             failed,

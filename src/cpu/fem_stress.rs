@@ -592,10 +592,7 @@ mod tests {
             total_mass: 0.0,
             filler_mass: 0.0,
         };
-        let mut p = crate::state::Projectile::from_mesh(&mesh, 0.0, 295.0);
-        if own {
-            p.elements.cells = (0..=p.elements.len() as u32).collect();
-        }
+        let p = crate::state::Projectile::from_mesh(&mesh, 0.0, 295.0, !own);
         (p.nodes, p.elements, params)
     }
 

@@ -104,7 +104,10 @@ mod tests {
     fn taylor(steps: usize) -> Model {
         let scene = crate::scene::load(
             std::path::Path::new("cases/taylor-4340-208.toml"),
-            &["projectile.element_size=0.001".into()],
+            &[
+                "projectile.element_size=0.001".into(),
+                "projectile.cell_pressure=true".into(),
+            ],
         )
         .expect("taylor case");
         let mut sim = Simulation::new(&scene).expect("taylor builds");

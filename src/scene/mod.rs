@@ -129,6 +129,8 @@ pub struct ProjectileSpec {
     /// Initial z of the nose tip (m); the target's front face is z = 0.
     pub nose_z: f64,
     pub material: SteelMaterial,
+    /// The four triangles of a cell share one pressure (physics.md §2.4); else each its own.
+    pub cell_pressure: bool,
 }
 
 /// Elastic-plastic metal of the projectile (physics.md §2).

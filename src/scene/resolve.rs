@@ -419,6 +419,7 @@ fn resolve_projectile(c: &Check) -> Result<ProjectileSpec, SceneError> {
         velocity,
         nose_z: 0.0,
         material,
+        cell_pressure: c.flag(&k::CELL_PRESSURE),
     })
 }
 

@@ -18,8 +18,12 @@ impl Model {
         // placed at z = 100 m would not move at all).
         let spec = &scene.model_projectile();
         let pmesh = mesh::projectile::build(spec).map_err(|e| RunError::Setup(e.to_string()))?;
-        let projectile =
-            Projectile::from_mesh(&pmesh, spec.velocity as f32, spec.material.strength.t_room);
+        let projectile = Projectile::from_mesh(
+            &pmesh,
+            spec.velocity as f32,
+            spec.material.strength.t_room,
+            spec.cell_pressure,
+        );
         let fem = FemParams::new(&spec.material);
         let (particles, sph) = match &scene.target {
             Some(t) => {

@@ -306,6 +306,7 @@ fn forrestal_projectile_mass() {
             velocity: 300.0,
             nose_z: 0.0,
             material: test_steel(),
+            cell_pressure: false,
         };
         assert_eq!(estimate_counts(&spec), (m.node_r.len(), m.elements.len()));
         let built = build(&spec).unwrap();
@@ -358,6 +359,7 @@ fn build_dispatches_cylinder_and_rejects_bad_input() {
         velocity: 208.0,
         nose_z: 0.0,
         material: test_steel(),
+        cell_pressure: false,
     };
     let m = build(&spec).unwrap();
     check(&m);
