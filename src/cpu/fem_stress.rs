@@ -152,21 +152,24 @@ pub fn run(
     params: &FemParams,
     dt: f32,
 ) -> Result<(), Inverted> {
-    let shared: Vec<Option<CellEos>> = {
-        let e: &Elements = elements;
-        e.cells
-            .par_windows(2)
-            .flat_map_iter(|w| {
-                let range = w[0] as usize..w[1] as usize;
-                std::iter::repeat_n(cell_eos(e, range.clone(), nodes, dt), range.len())
-            })
-            .collect()
-    };
     assert_eq!(
-        shared.len(),
+        elements.cells.last().map_or(0, |&n| n as usize),
         elements.len(),
         "Elements::cells must cover every element"
     );
+    // Each element's shared EOS state, read before any element is written; none to read when
+    // every cell is one element (projectile.cell_pressure off).
+    let shared: Option<Vec<Option<CellEos>>> =
+        (elements.cells.len() <= elements.len()).then(|| {
+            let e: &Elements = elements;
+            e.cells
+                .par_windows(2)
+                .flat_map_iter(|w| {
+                    let range = w[0] as usize..w[1] as usize;
+                    std::iter::repeat_n(cell_eos(e, range.clone(), nodes, dt), range.len())
+                })
+                .collect()
+        });
     let Elements {
         nodes: conn,
         cells: _,
@@ -201,7 +204,6 @@ pub fn run(
         .zip(force.par_iter_mut())
         .zip(dt_out.par_iter_mut())
         .zip(plastic_work.par_iter_mut())
-        .zip(shared.par_iter())
         .enumerate()
         .map(
             |(
@@ -211,24 +213,19 @@ pub fn run(
                         (
                             (
                                 (
-                                    (
-                                        (
-                                            ((((((((el, &v0), srr), szz), srz), stt), pe), en), ep),
-                                            temp,
-                                        ),
-                                        dmg,
-                                    ),
-                                    fail,
+                                    (((((((((el, &v0), srr), szz), srz), stt), pe), en), ep), temp),
+                                    dmg,
                                 ),
-                                f,
+                                fail,
                             ),
-                            dte,
+                            f,
                         ),
-                        wp,
+                        dte,
                     ),
-                    &cell,
+                    wp,
                 ),
             )| {
+                let cell = shared.as_ref().and_then(|s| s[e]);
                 let mut st = ElementState {
                     s: [*srr, *szz, *srz, *stt],
                     p: *pe,
