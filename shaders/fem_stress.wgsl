@@ -236,10 +236,14 @@ fn update_element(e: u32, cell: CellEos, step_dt: f32) {
     }
 
     let p_eos = steel_eos_pressure(u, mu, e_pred);
+    let k_t = steel_eos_bulk_tangent(u, mu);
     var p_new = p_eos;
     if (is_failed) {
         // A failed element takes no tension.
         p_new = max(p_new, 0.0);
+    } else if (cell.grouped) {
+        // fem_stress::cell_mode_pressure: what holds the cell's centre-node mode.
+        p_new = p_eos + CELL_MODE_STIFFNESS * k_t * (eos_rel - rel_volume);
     }
     // An open failed element (cpu::fem_stress::OPEN_RELATIVE_VOLUME) carries no stress and
     // limits the step only by the time it would take to close.
@@ -247,7 +251,6 @@ fn update_element(e: u32, cell: CellEos, step_dt: f32) {
 
     // Bulk viscosity on compression only: it spreads shocks, which only compression forms.
     let length = min_altitude(g);
-    let k_t = steel_eos_bulk_tangent(u, mu);
     let c = sqrt((k_t + 4.0 / 3.0 * g_mod) / rho);
     var q = 0.0;
     if (vol < 0.0 && !open) {

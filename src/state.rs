@@ -274,9 +274,9 @@ impl Elements {
     }
 
     /// The largest alternation of the triangles' relative volumes J = V/V₀ inside one intact
-    /// four-triangle cell, |J₀ − J₁ + J₂ − J₃|/4: the cell mode itself, which a shared pressure
-    /// (docs/physics.md §2.4) no longer shows as a pressure swing. K₁ times it is the swing
-    /// each triangle's own pressure would have.
+    /// four-triangle cell, |J₀ − J₁ + J₂ − J₃|/4: the cell mode itself, of which a shared
+    /// pressure (docs/physics.md §2.4) shows only the mode stiffness's share as a pressure
+    /// swing. K₁ times it is the swing each triangle's own pressure would have.
     pub fn max_volume_checkerboard(&self, nodes: &Nodes) -> f32 {
         let j = |k: usize| {
             crate::mesh::geometry::Geometry::new(&self.nodes[k], &nodes.r, &nodes.z).volume()
@@ -289,7 +289,8 @@ impl Elements {
     }
 
     /// The largest pressure checkerboard inside one intact four-triangle cell (Pa),
-    /// |p₀ − p₁ + p₂ − p₃|/4. 0 where the triangles share one pressure (docs/physics.md §2.4);
+    /// |p₀ − p₁ + p₂ − p₃|/4. Where the triangles share one pressure (docs/physics.md §2.4)
+    /// only the mode stiffness's term, `CELL_MODE_STIFFNESS` K times the volume alternation;
     /// else a smooth field gives little and a cell whose triangles take alternating volumes
     /// its pressure swing. 0 without such cells.
     pub fn max_checkerboard(&self) -> f32 {

@@ -66,20 +66,31 @@ fn run_steps(mut sim: Simulation, steps: usize) -> Model {
 /// tests), but the step carries round-off forward and the contact and the element stresses
 /// amplify it (a stress is a difference of nearly equal nodal velocities, and already in free
 /// flight f32 positions give the steel MPa of pressure noise). How far round-off alone moves
-/// this scene is measured, not guessed: the CPU is run a second time with every initial node
-/// velocity one ulp off, and the GPU may depart from the CPU by at most 4× that (the margin
-/// covers the sampling of a chaotic quantity), plus 1e-6 of the field's scale.
+/// this scene is measured, not guessed: the CPU is run again with one ulp added to one of the
+/// initial state's fields (the nodes' axial velocities or radii, the particles' positions;
+/// the particles start at rest), four runs, and the GPU may depart from the CPU by at most 4×
+/// the largest of their departures (the margin covers the sampling of a chaotic quantity),
+/// plus 1e-6 of the field's scale. One nudge alone is too small a sample: on this scene the
+/// concrete's deviator moves by 0.5–4.6 kPa from nudge to nudge.
 #[test]
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn gpu_and_cpu_agree_after_300_coupled_steps() {
     // At 800 m/s the nose yields within the 300 steps.
     let scene = smoke(&["projectile.velocity=800"]);
-    let mut nudged = Simulation::new(&scene).unwrap();
-    for v in nudged.model_mut().unwrap().projectile.nodes.vz.iter_mut() {
-        *v = f32::from_bits(v.to_bits() + 1);
-    }
+    let nudged = |field: fn(&mut Model) -> &mut Vec<f32>| {
+        let mut sim = Simulation::new(&scene).unwrap();
+        for v in field(sim.model_mut().unwrap()).iter_mut() {
+            *v = f32::from_bits(v.to_bits() + 1);
+        }
+        run_steps(sim, 300)
+    };
+    let nudges = [
+        nudged(|m| &mut m.projectile.nodes.vz),
+        nudged(|m| &mut m.projectile.nodes.r),
+        nudged(|m| &mut m.particles.z),
+        nudged(|m| &mut m.particles.r),
+    ];
     let cpu = run_steps(Simulation::new(&scene).unwrap(), 300);
-    let nudged = run_steps(nudged, 300);
     let gpu = run_steps(on_gpu(&scene), 300);
     assert!(cpu.last_hits > 0, "the test must exercise the contact");
     assert!(
@@ -114,15 +125,19 @@ fn gpu_and_cpu_agree_after_300_coupled_steps() {
             ("element damage", e.damage.clone()),
         ]
     };
-    let (want, got, ulp) = (fields(&cpu), fields(&gpu), fields(&nudged));
+    let (want, got) = (fields(&cpu), fields(&gpu));
+    let ulp: Vec<_> = nudges.iter().map(fields).collect();
     let mut report = Vec::new();
     for k in 0..want.len() {
         let name = want[k].0;
         let err = max_difference(&got[k].1, &want[k].1);
-        let round_off = max_difference(&ulp[k].1, &want[k].1);
+        let round_off = ulp
+            .iter()
+            .map(|u| max_difference(&u[k].1, &want[k].1))
+            .fold(0.0, f32::max);
         let tol = 4.0 * round_off + 1e-6 * scale(&want[k].1);
         report.push(format!(
-            "{name}: GPU−CPU {err:.3e}, one-ulp nudge {round_off:.3e} (scale {:.3e})",
+            "{name}: GPU−CPU {err:.3e}, largest one-ulp nudge {round_off:.3e} (scale {:.3e})",
             scale(&want[k].1)
         ));
         assert!(

@@ -139,6 +139,18 @@ pub fn cell_eos(
     })
 }
 
+/// The share of the bulk stiffness that holds a shared-pressure cell's centre-node mode
+/// (docs/physics.md §2.4): small enough that the cell's triangles keep nearly one pressure,
+/// large enough that the mode no longer rests on the deviatoric stiffness alone.
+pub const CELL_MODE_STIFFNESS: f32 = 0.03;
+
+/// The pressure a triangle of a shared-pressure cell adds for its volume's departure from the
+/// cell's, `β K (J_cell − J)` (docs/physics.md §2.4); it averages to zero over the cell
+/// (weights V₀), so the cell's mean pressure is the EOS's.
+pub fn cell_mode_pressure(bulk_tangent: f32, cell_rel_volume: f32, rel_volume: f32) -> f32 {
+    CELL_MODE_STIFFNESS * bulk_tangent * (cell_rel_volume - rel_volume)
+}
+
 fn element_rate(g: &Geometry, el: &[u32; 3], nodes: &Nodes) -> StrainRate {
     let idx = [el[0] as usize, el[1] as usize, el[2] as usize];
     StrainRate::new(g, idx.map(|n| nodes.vr[n]), idx.map(|n| nodes.vz[n]))
@@ -384,12 +396,18 @@ pub fn update_element(
     }
 
     let p_eos = steel_eos::pressure(&m.eos, mu, eos.e_pred);
-    let p = if st.failed { p_eos.max(0.0) } else { p_eos };
+    let k_t = steel_eos::bulk_tangent(&m.eos, mu);
+    let p = if st.failed {
+        p_eos.max(0.0)
+    } else if cell.is_some() {
+        p_eos + cell_mode_pressure(k_t, eos.rel_volume, rel_volume)
+    } else {
+        p_eos
+    };
     let open = st.failed && eos.rel_volume >= OPEN_RELATIVE_VOLUME && p_eos <= 0.0;
 
     // Bulk viscosity on compression only.
     let length = g.min_altitude();
-    let k_t = steel_eos::bulk_tangent(&m.eos, mu);
     let c = ((k_t + 4.0 / 3.0 * g_mod) / rho).sqrt();
     let q = if vol < 0.0 && !open {
         rho * length * (m.q_quad * length * vol * vol - m.q_lin * c * vol)
@@ -607,9 +625,10 @@ mod tests {
     /// A patch compressed uniformly (every length 1 % shorter), with one quad's centre node then moved
     /// sideways by 1 % of the quad: the mode that shrinks one of its triangles and swells the
     /// opposite one while the quad's volume stays the same. Each element on its own takes the
-    /// pressure of its own volume, which swings by several GPa; a cell shares one, the EOS of
-    /// the cell's volume, which the centre's position does not change, so the moved quad
-    /// carries the homogeneous pressure like the others.
+    /// pressure of its own volume, which swings by several GPa; a cell shares the EOS of the
+    /// cell's volume, which the centre's position does not change, so the moved quad's mean
+    /// pressure is the homogeneous one, and its triangles depart from it only by the mode's
+    /// stiffness, `CELL_MODE_STIFFNESS` of the swing they had on their own.
     #[test]
     fn a_cell_shares_the_pressure_of_its_volume() {
         let run_patch = |own: bool, failed: Option<usize>| {
@@ -642,12 +661,21 @@ mod tests {
             &own.p[0..4]
         );
         for c in 0..4 {
-            let p = &cells.p[4 * c..4 * c + 4];
-            assert!(p.iter().all(|&x| x == p[0]), "cell {c}: {p:?}");
+            let k = 4 * c..4 * c + 4;
+            let (p, v0) = (&cells.p[k.clone()], &cells.volume0[k]);
+            let mean = p.iter().zip(v0).map(|(p, v)| p * v).sum::<f32>() / v0.iter().sum::<f32>();
             assert!(
-                (p[0] - p_homogeneous).abs() < round_off,
-                "cell {c}: {} vs {p_homogeneous}",
-                p[0]
+                (mean - p_homogeneous).abs() < round_off,
+                "cell {c}: mean {mean} vs {p_homogeneous}"
+            );
+            let expected_swing = if c == 0 {
+                CELL_MODE_STIFFNESS * swing(&own.p[0..4])
+            } else {
+                0.0
+            };
+            assert!(
+                (swing(p) - expected_swing).abs() < 0.1 * expected_swing + round_off,
+                "cell {c}: {p:?}, swing expected {expected_swing}"
             );
         }
         // A failed element takes its cell back to the elements' own pressures (its own floored
@@ -658,6 +686,40 @@ mod tests {
             assert_eq!(one_failed.p[k], expected, "element {k}");
         }
         assert_eq!(&one_failed.p[4..], &cells.p[4..]);
+    }
+
+    /// With no deviatoric stiffness at all (G = 0, as in a cell whose triangles flow), the
+    /// moved centre node of `a_cell_shares_the_pressure_of_its_volume` is still pushed back:
+    /// by `CELL_MODE_STIFFNESS` of the force the triangles' own pressures would exert, not by
+    /// nothing (physics.md §2.4).
+    #[test]
+    fn a_cell_holds_its_centre_without_shear_stiffness() {
+        let centre_force = |own: bool| {
+            let (mut nodes, mut elements, mut params) = patch_model(0.05, own);
+            params.shear_modulus = 0.0;
+            for k in 0..nodes.len() {
+                nodes.r[k] *= 0.99;
+                nodes.z[k] *= 0.99;
+            }
+            nodes.r[9] += 2.0e-5;
+            run(&mut elements, &nodes, &params, 1.0e-9).expect("not inverted");
+            let mut f = 0.0f64;
+            for (el, fe) in elements.nodes.iter().zip(&elements.force) {
+                for k in 0..3 {
+                    if el[k] == 9 {
+                        f += fe[2 * k] as f64;
+                    }
+                }
+            }
+            f
+        };
+        let (own, cells) = (centre_force(true), centre_force(false));
+        assert!(own < 0.0, "own pressures push the centre back: {own}");
+        let ratio = cells / own;
+        assert!(
+            (ratio - CELL_MODE_STIFFNESS as f64).abs() < 0.2 * CELL_MODE_STIFFNESS as f64,
+            "cells {cells} against own {own}: {ratio}"
+        );
     }
 
     /// The volume checkerboard reads a cell's + − + − alternation of V/V₀ and leaves out a

@@ -240,6 +240,10 @@ fn shared_constants() -> Vec<(&'static str, Value)> {
             "OPEN_RELATIVE_VOLUME",
             F32(crate::cpu::fem_stress::OPEN_RELATIVE_VOLUME),
         ),
+        (
+            "CELL_MODE_STIFFNESS",
+            F32(crate::cpu::fem_stress::CELL_MODE_STIFFNESS),
+        ),
         ("ETA2", F32(crate::cpu::sph_forces::ETA2)),
         (
             "MIN_CORRECTION_DET",
