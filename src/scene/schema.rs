@@ -446,9 +446,9 @@ schema! {
     ELEMENT_SIZE = "projectile.element_size" { unit: "m", bounds: Range("> 0"),
         help: "Target element size of the projectile mesh; at most diameter/4",
         show: |s| number(s.projectile.element_size) }
-    CELL_PRESSURE = "projectile.cell_pressure" { ty: FLAG, default: DefaultValue::Flag(false),
+    CELL_PRESSURE = "projectile.cell_pressure" { ty: FLAG, default: DefaultValue::Flag(true),
         help: "One pressure for the four triangles of each mesh cell (physics.md §2.4); \
-               experimental: a coarse 64 g rod at 722 m/s goes unstable with it",
+               false: each triangle the pressure of its own volume, which checkerboards",
         show: |s| Some(Shown::Flag(s.projectile.cell_pressure)) }
     VELOCITY = "projectile.velocity" { unit: "m/s", bounds: Range("[0, 5000]"),
         why: " (m/s): the striking speed, not negative (flight is along −z); the material models \
