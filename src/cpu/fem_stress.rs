@@ -147,7 +147,7 @@ pub const CELL_MODE_STIFFNESS: f32 = 0.03;
 /// The pressure a triangle of a shared-pressure cell adds for its volume's departure from the
 /// cell's, `β K (J_cell − J)` (docs/physics.md §2.4); it averages to zero over the cell
 /// (weights V₀), so the cell's mean pressure is the EOS's.
-pub fn cell_mode_pressure(bulk_tangent: f32, cell_rel_volume: f32, rel_volume: f32) -> f32 {
+fn cell_mode_pressure(bulk_tangent: f32, cell_rel_volume: f32, rel_volume: f32) -> f32 {
     CELL_MODE_STIFFNESS * bulk_tangent * (cell_rel_volume - rel_volume)
 }
 
