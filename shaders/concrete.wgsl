@@ -1,7 +1,8 @@
 // `concrete` (CPU twin: src/cpu/concrete.rs): per particle, the HJC update (physics.md §3.1) in
 // the OpenRadioss LAW126 order: density from continuity, EOS with crushing, trial deviator
 // (Jaumann), strength with the new pressure and the old damage, radial scaling, damage from
-// Δε_p + Δμ_p; then the energy. Needs params.wgsl, deviator.wgsl and hjc.wgsl.
+// Δε_p + Δμ_p (in tension, with the crack band, Δε_p + the crack's opening); then the energy.
+// Needs params.wgsl, deviator.wgsl and hjc.wgsl.
 
 @group(0) @binding(0) var<uniform> u: SphUniform;
 @group(0) @binding(1) var<storage, read> clock: Clock;
@@ -53,14 +54,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let mu = rho_new / u.density - 1.0;
     // A particle continuity would take below the floor has separated: it fails.
     let dmg = select(damage[i], 1.0, continuity < floor);
-    let eos = hjc_pressure(u, mu, mu_max[i], dmg);
+    let t_d = hjc_tensile_strength(
+        u,
+        largest_principal_rate(vec4<f32>(d_rr, d_zz, d_rz, d_tt)),
+    );
+    let eos = hjc_pressure(u, mu, mu_max[i], dmg, t_d);
 
     let dev = deviatoric_rate(vec4<f32>(d_rr, d_zz, d_rz, d_tt));
     let g = u.shear_modulus;
     var s = jaumann_trial(s_old, dev, spin, g, dt);
     let eq_rate = equivalent_rate(dev);
     let seq = von_mises(s);
-    let sy = hjc_yield_stress(u, eos.p, dmg, eq_rate);
+    let sy = hjc_yield_stress(u, eos.p, dmg, eq_rate, t_d);
     var d_eps_p = 0.0;
     if (seq > sy) {
         let scale = select(0.0, sy / seq, seq > 0.0);
@@ -68,11 +73,15 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         d_eps_p = (seq - sy) / (3.0 * g);
     }
 
+    // The crack's opening: the expansion of a particle held at the cut-off (concrete.rs
+    // `crack_opening`).
+    let cut = -t_d * (1.0 - dmg);
+    let d_open = select(0.0, max((rho[i] - rho_new) / rho_new, 0.0), cut < 0.0 && eos.p <= cut);
     rho[i] = rho_new;
     mu_max[i] = eos.mu_max;
     p[i] = eos.p;
     eps_p[i] = eps_p[i] + d_eps_p;
-    damage[i] = min(dmg + hjc_damage_increment(u, eos.p, d_eps_p, eos.d_mu_p), 1.0);
+    damage[i] = min(dmg + hjc_damage_increment(u, eos.p, t_d, d_eps_p, eos.d_mu_p, d_open), 1.0);
     s_rr[i] = s.x;
     s_zz[i] = s.y;
     s_rz[i] = s.z;

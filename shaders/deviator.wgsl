@@ -31,6 +31,13 @@ fn equivalent_rate(dev: vec4<f32>) -> f32 {
         * (dev.x * dev.x + dev.y * dev.y + 2.0 * dev.z * dev.z + dev.w * dev.w));
 }
 
+// Largest principal rate of deformation, >= 0 (deviator.rs `largest_principal_rate`).
+fn largest_principal_rate(d: vec4<f32>) -> f32 {
+    let mean = 0.5 * (d.x + d.y);
+    let half = 0.5 * (d.x - d.y);
+    return max(max(mean + sqrt(half * half + d.z * d.z), d.w), 0.0);
+}
+
 // Von Mises stress sqrt(3/2 S:S) of a deviator.
 fn von_mises(s: vec4<f32>) -> f32 {
     return sqrt(1.5 * (s.x * s.x + s.y * s.y + 2.0 * s.z * s.z + s.w * s.w));

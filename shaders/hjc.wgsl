@@ -40,8 +40,25 @@ fn hjc_plastic_volumetric_strain(u: SphUniform, mu_max: f32, k_el: f32) -> f32 {
     return m - env.x / env.y;
 }
 
-// Three-part EOS with compaction history and tension cut-off (hjc.rs `pressure`).
-fn hjc_pressure(u: SphUniform, mu: f32, mu_max: f32, damage: f32) -> HjcEos {
+// Dynamic increase of the tensile strength at the tensile strain rate (hjc.rs
+// `tensile_rate_factor`, fib Model Code 2010, held at 300/s beyond).
+fn hjc_tensile_rate_factor(rate: f32) -> f32 {
+    let ratio = max(min(rate, HJC_TENSILE_RATE_LIMIT) / HJC_TENSILE_RATE_REF, 1.0);
+    return select(
+        HJC_TENSILE_RATE_COEFFICIENT * pow(ratio, 1.0 / 3.0),
+        pow(ratio, HJC_TENSILE_RATE_EXPONENT),
+        rate <= HJC_TENSILE_RATE_KNEE,
+    );
+}
+
+// Tensile strength at the tensile strain rate: T, or T times the rate factor with the crack
+// band (u.crack_band > 0; hjc.rs `tensile_strength`).
+fn hjc_tensile_strength(u: SphUniform, rate: f32) -> f32 {
+    return select(u.t, u.t * hjc_tensile_rate_factor(rate), u.crack_band > 0.0);
+}
+
+// Three-part EOS with compaction history and tension cut-off at t_d (hjc.rs `pressure`).
+fn hjc_pressure(u: SphUniform, mu: f32, mu_max: f32, damage: f32, t_d: f32) -> HjcEos {
     let k_el = u.p_crush / u.mu_crush;
     let new_max = max(mu, mu_max);
 
@@ -65,7 +82,7 @@ fn hjc_pressure(u: SphUniform, mu: f32, mu_max: f32, damage: f32) -> HjcEos {
         0.0,
     );
     let d = clamp(damage, 0.0, 1.0);
-    return HjcEos(max(p, -u.t * (1.0 - d)), new_max, d_mu_p, max(tangent, k_el));
+    return HjcEos(max(p, -t_d * (1.0 - d)), new_max, d_mu_p, max(tangent, k_el));
 }
 
 // Rate factor 1 + C ln ε̇*, ε̇* = max(ε̇/ε̇₀, 1).
@@ -74,18 +91,30 @@ fn hjc_rate_factor(u: SphUniform, eps_rate: f32) -> f32 {
 }
 
 // Equivalent yield stress σ_y = f_c σ* (Pa, >= 0).
-fn hjc_yield_stress(u: SphUniform, p: f32, damage: f32, eps_rate: f32) -> f32 {
+fn hjc_yield_stress(u: SphUniform, p: f32, damage: f32, eps_rate: f32, t_d: f32) -> f32 {
     let d = clamp(damage, 0.0, 1.0);
     let rate = hjc_rate_factor(u, eps_rate);
     let p_star = p / u.fc;
     let hardening = u.b * pow(max(p_star, HJC_POW_BASE_FLOOR), u.n_exp);
     let compressive = min((u.a * (1.0 - d) + hardening) * rate, u.s_max);
-    let tensile = max(u.a * (1.0 + p / u.t) * (1.0 - d) * rate, 0.0);
+    let tensile = max(u.a * (1.0 + p / t_d) * (1.0 - d) * rate, 0.0);
     return u.fc * select(tensile, compressive, p_star >= 0.0);
 }
 
-// Damage increment (Δε_p + Δμ_p)/max(D1 (P* + T*)^D2, EF_min); the caller caps D at 1.
-fn hjc_damage_increment(u: SphUniform, p: f32, d_eps_p: f32, d_mu_p: f32) -> f32 {
+// Damage increment; the caller caps D at 1. In tension with the crack band
+// (Δε_p + Δε_o)/ε_ft, ε_ft = 2 G_f/(T_d l); else HJC's (Δε_p + Δμ_p)/max(D1 (P* + T*)^D2, EF_min).
+fn hjc_damage_increment(
+    u: SphUniform,
+    p: f32,
+    t_d: f32,
+    d_eps_p: f32,
+    d_mu_p: f32,
+    d_open: f32,
+) -> f32 {
+    if (u.crack_band > 0.0 && p < 0.0) {
+        let eps_ft = max(2.0 * u.g_f / (t_d * u.crack_band), HJC_FAILURE_STRAIN_FLOOR);
+        return (d_eps_p + d_open) / eps_ft;
+    }
     let base = (p + u.t) / u.fc;
     let eps_f = max(
         max(u.d1 * pow(max(base, HJC_POW_BASE_FLOOR), u.d2), u.ef_min),

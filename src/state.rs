@@ -81,16 +81,25 @@ impl Particles {
 
     /// Particles at rest, at the reference density, from the lattice.
     pub fn from_lattice(lattice: &TargetLattice, spec: &TargetSpec) -> Particles {
-        let n = lattice.r.len();
-        let zero = vec![0.0f32; n];
-        let fixed = (0..n)
+        let fixed = (0..lattice.r.len())
             .map(|i| {
                 u32::from(
                     (spec.fix_rear && lattice.rear[i]) || (spec.fix_lateral && lattice.lateral[i]),
                 )
             })
             .collect();
-        let concrete = &spec.concrete;
+        Particles::at_rest(lattice, &spec.concrete, fixed)
+    }
+
+    /// Particles of `concrete` at rest, at its reference density, at the lattice's places;
+    /// `fixed` as the field of that name.
+    pub fn at_rest(
+        lattice: &TargetLattice,
+        concrete: &crate::materials::hjc::Hjc,
+        fixed: Vec<u32>,
+    ) -> Particles {
+        let n = lattice.r.len();
+        let zero = vec![0.0f32; n];
         let c0 = crate::materials::hjc::sound_speed(concrete, concrete.p_crush / concrete.mu_crush);
         Particles {
             r: lattice.r.clone(),
@@ -152,6 +161,8 @@ pub struct SphParams {
     pub art_stress_n: f32,
     /// W(Δ, h): the reference kernel value of the artificial stress.
     pub w_spacing: f32,
+    /// How the concrete fails in tension (`target.tension`; the crack band is one spacing).
+    pub tension: crate::materials::hjc::Tension,
 }
 
 impl SphParams {
@@ -170,6 +181,14 @@ impl SphParams {
             art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },
             art_stress_n: 4.0,
             w_spacing: kernel.w(spec.spacing as f32),
+            tension: match spec.tension {
+                crate::scene::TensionModel::Static => crate::materials::hjc::Tension::Static,
+                crate::scene::TensionModel::CrackBand => {
+                    crate::materials::hjc::Tension::CrackBand {
+                        band: spec.spacing as f32,
+                    }
+                }
+            },
         }
     }
 }

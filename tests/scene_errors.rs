@@ -625,11 +625,28 @@ fn material_constants_of_real_materials() {
         "projectile.material.jc_a=1e11",
         "projectile.material.jc_b=0",
         "projectile.material.jc_c=1",
-        "target.concrete.t=3.4e7",
     ] {
         parse_str(&smoke_text(), Path::new(ORIGIN), &[set.to_string()])
             .unwrap_or_else(|e| panic!("{set}: {e}"));
     }
+    // A tensile strength near f_c is a valid HJC constant, but a crack band as wide as the
+    // spacing would snap back at that strength: refused with the crack band, run without.
+    let strong = "target.concrete.t=3.4e7".to_string();
+    refused(
+        &smoke_text(),
+        &[strong.as_str()],
+        &[
+            "target.spacing",
+            "crack-band",
+            "target.tension = \"static\"",
+        ],
+    );
+    parse_str(
+        &smoke_text(),
+        Path::new(ORIGIN),
+        &[strong, "target.tension=\"static\"".to_string()],
+    )
+    .unwrap();
     // The stiffest allowed, with the K₁ that goes with it.
     let stiff = [
         "projectile.material.youngs_modulus=1.2e12".to_string(),

@@ -6,7 +6,9 @@
 use penetrate::cpu::{concrete, integrate, neighbours, sph_forces, sph_rates, timestep};
 use penetrate::materials::hjc::Hjc;
 use penetrate::mesh::target::lattice;
-use penetrate::scene::{TargetSpec, VelocityFilter, VelocityGradient, ViscositySwitch};
+use penetrate::scene::{
+    TargetSpec, TensionModel, VelocityFilter, VelocityGradient, ViscositySwitch,
+};
 use penetrate::state::{Particles, SphParams};
 
 fn spec(fix: bool) -> TargetSpec {
@@ -25,6 +27,7 @@ fn spec(fix: bool) -> TargetSpec {
         velocity_gradient: VelocityGradient::Corrected,
         lead_hole_depth: 0.0,
         lead_hole_diameter: 0.02,
+        tension: TensionModel::CrackBand,
         concrete: Hjc::from_fc(35e6, 2370.0),
     }
 }

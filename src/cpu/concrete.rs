@@ -1,10 +1,14 @@
 //! `concrete`: per particle, the HJC update (physics.md §3.1) in the OpenRadioss LAW126 order:
 //! density from continuity, EOS with crushing, trial deviator (Jaumann), strength with the new
-//! pressure and the old damage, radial scaling, damage from Δε_p + Δμ_p; then the strain-power energy (`Particles::strain_energy`).
+//! pressure and the old damage, radial scaling, damage from Δε_p + Δμ_p (in tension, with the
+//! crack band, Δε_p + the crack's opening); then the strain-power energy
+//! (`Particles::strain_energy`).
 
 use rayon::prelude::*;
 
-use super::deviator::{deviatoric_rate, equivalent_rate, jaumann_trial, von_mises};
+use super::deviator::{
+    deviatoric_rate, equivalent_rate, jaumann_trial, largest_principal_rate, von_mises,
+};
 use super::sph_rates::hoop_rate;
 use crate::materials::hjc;
 use crate::state::{Particles, SphParams};
@@ -90,9 +94,15 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 if continuity < floor {
                     *dmg = 1.0;
                 }
+                let rho_old = *rho;
                 *rho = continuity.max(floor);
                 let mu = *rho / c.density - 1.0;
-                let eos = hjc::pressure(c, mu_plock, mu, *mmax, *dmg);
+                let t_d = hjc::tensile_strength(
+                    c,
+                    params.tension,
+                    largest_principal_rate(d_rr, d_zz, d_rz, d_tt),
+                );
+                let eos = hjc::pressure(c, mu_plock, mu, *mmax, *dmg, t_d);
                 *mmax = eos.mu_max;
                 *p = eos.p;
 
@@ -101,7 +111,7 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 let mut s = jaumann_trial([*srr, *szz, *srz, *stt], dev, spin, g, dt);
                 let eq_rate = equivalent_rate(&dev);
                 let seq = von_mises(&s);
-                let sy = hjc::yield_stress(c, eos.p, *dmg, eq_rate);
+                let sy = hjc::yield_stress(c, eos.p, *dmg, eq_rate, t_d);
                 let mut d_eps_p = 0.0;
                 if seq > sy {
                     let scale = if seq > 0.0 { sy / seq } else { 0.0 };
@@ -111,7 +121,17 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                     d_eps_p = (seq - sy) / (3.0 * g);
                 }
                 *ep += d_eps_p;
-                *dmg = (*dmg + hjc::damage_increment(c, eos.p, d_eps_p, eos.d_mu_p)).min(1.0);
+                let d_open = crack_opening(eos.p, t_d, *dmg, rho_old, *rho);
+                let d_dmg = hjc::damage_increment(
+                    c,
+                    params.tension,
+                    eos.p,
+                    t_d,
+                    d_eps_p,
+                    eos.d_mu_p,
+                    d_open,
+                );
+                *dmg = (*dmg + d_dmg).min(1.0);
                 *srr = s[0];
                 *szz = s[1];
                 *srz = s[2];
@@ -127,6 +147,78 @@ pub fn run(particles: &mut Particles, params: &SphParams, dt: f32) {
                 *e += dt * (0.5 * (old_power + new_power) / *rho + de_visc[i]);
             },
         );
+}
+
+/// The crack's opening in this step: the volumetric expansion (ρ_old − ρ)/ρ of a particle held
+/// at the tension cut-off −T_d(1 − D), 0 elsewhere (WGSL twin: concrete.wgsl).
+fn crack_opening(p: f32, t_d: f32, damage: f32, rho_old: f32, rho: f32) -> f32 {
+    let cut = -t_d * (1.0 - damage);
+    if cut < 0.0 && p <= cut {
+        ((rho_old - rho) / rho).max(0.0)
+    } else {
+        0.0
+    }
+}
+
+/// A material point of the concrete strained at constant principal rates until it fails.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PullApart {
+    /// The work spent on it per unit volume to failure, ∫ σ:D dt (J/m³).
+    pub work: f64,
+    /// The largest tension it held, −p (Pa).
+    pub peak_tension: f32,
+}
+
+/// Strains one particle of `params`' concrete, from rest, at the constant principal rates
+/// `rates` = (rr, zz, θθ) (1/s, at least one positive) through this module's update, until it
+/// fails (D = 1) or has expanded by half its volume (`None`: it holds its tension, as HJC's
+/// static cut-off does under an opening without shear). Each step strains it by 1/200 of the
+/// smaller of the elastic strain at the cut-off and the crack band's failure strain, so the
+/// softening is resolved. For the crack band's fracture work (physics.md §3.1, "Tension").
+pub fn pull_apart(params: &SphParams, rates: [f32; 3]) -> Option<PullApart> {
+    let c = &params.concrete;
+    let lattice = crate::mesh::TargetLattice {
+        r: vec![1.0],
+        z: vec![0.0],
+        mass: vec![1.0],
+        rear: vec![false],
+        lateral: vec![false],
+    };
+    let mut ps = Particles::at_rest(&lattice, c, vec![0]);
+    let [rr, zz, tt] = rates;
+    let (vol, largest) = (rr + zz + tt, rr.max(zz).max(tt));
+    if vol <= 0.0 || largest <= 0.0 {
+        return None;
+    }
+    // A hoop rate θθ at r = 1 is v_r; the hoop weight is 1, so either gradient reads it.
+    (ps.l_rr[0], ps.l_zz[0], ps.vr[0]) = (rr, zz, tt);
+    let t_d = hjc::tensile_strength(c, params.tension, largest);
+    let elastic = t_d / (c.p_crush / c.mu_crush);
+    let step_strain = match params.tension {
+        hjc::Tension::CrackBand { band } => elastic.min(hjc::crack_failure_strain(c, t_d, band)),
+        hjc::Tension::Static => elastic.min(c.ef_min),
+    } / 200.0;
+    let dt = step_strain / vol;
+    let (mut work, mut peak) = (0.0f64, 0.0f32);
+    let power = |ps: &Particles| {
+        f64::from(
+            (ps.s_rr[0] - ps.p[0]) * rr + (ps.s_zz[0] - ps.p[0]) * zz + (ps.s_tt[0] - ps.p[0]) * tt,
+        )
+    };
+    while ps.rho[0] > 0.5 * c.density {
+        let before = power(&ps);
+        ps.drho[0] = -vol * ps.rho[0];
+        run(&mut ps, params, dt);
+        work += f64::from(dt) * 0.5 * (before + power(&ps));
+        peak = peak.max(-ps.p[0]);
+        if ps.damage[0] >= 1.0 {
+            return Some(PullApart {
+                work,
+                peak_tension: peak,
+            });
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -172,5 +264,60 @@ mod tests {
                 "particle {i}"
             );
         }
+    }
+
+    /// A crack band spends the fracture energy per unit crack area whatever its width: pulled
+    /// apart at 100/s, a particle holds T times the rate factor, then softens, and the work
+    /// per unit volume times the band, less the elastic energy T_d²/(2K_el) stored before the
+    /// crack opens, is G_f within 2 % for bands of 2 and 8 mm (four times apart).
+    #[test]
+    fn a_crack_band_spends_the_fracture_energy_whatever_its_width() {
+        let sim = smoke(0, &[]);
+        let base = sim.sph.expect("smoke has a target");
+        let rate = 100.0;
+        let c = base.concrete;
+        let t_d = c.t * hjc::tensile_rate_factor(rate);
+        let k_el = c.p_crush / c.mu_crush;
+        for band in [0.002, 0.008] {
+            let sph = SphParams {
+                tension: hjc::Tension::CrackBand { band },
+                ..base
+            };
+            let PullApart {
+                work,
+                peak_tension: peak,
+            } = pull_apart(&sph, [rate; 3]).expect("the crack band fails");
+            assert!(
+                (peak / t_d - 1.0).abs() < 1.0e-3,
+                "band {band}: peak tension {peak} against T_d {t_d}"
+            );
+            let elastic = f64::from(t_d * t_d / (2.0 * k_el));
+            let spent = (work - elastic) * f64::from(band);
+            let g_f = f64::from(c.g_f);
+            eprintln!("band {band} m: fracture work {spent:.2} J/m² against G_f {g_f:.2}");
+            assert!(
+                (spent / g_f - 1.0).abs() < 0.02,
+                "band {band}: {spent} J/m² against G_f {g_f}"
+            );
+        }
+    }
+
+    /// The static cut-off of HJC as published holds −T and takes no damage from an opening
+    /// without shear: the particle never fails, and it does under uniaxial strain, where the
+    /// deviator's plastic strain damages it.
+    #[test]
+    fn the_static_cut_off_does_not_soften_without_shear() {
+        let sim = smoke(0, &[]);
+        let sph = SphParams {
+            tension: hjc::Tension::Static,
+            ..sim.sph.expect("smoke has a target")
+        };
+        assert_eq!(pull_apart(&sph, [100.0; 3]), None);
+        // Shear damage lowers the cut-off −T(1 − D) before the tension reaches T.
+        let uniaxial = pull_apart(&sph, [0.0, 100.0, 0.0]).expect("fails in shear");
+        assert!(
+            uniaxial.peak_tension > 0.0 && uniaxial.peak_tension <= sph.concrete.t,
+            "{uniaxial:?}"
+        );
     }
 }

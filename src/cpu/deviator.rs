@@ -37,6 +37,16 @@ pub fn equivalent_rate(dev: &[f32; 4]) -> f32 {
         .sqrt()
 }
 
+/// Largest principal rate of deformation (1/s), ≥ 0: the in-plane (rr, zz, rz) pair's larger
+/// eigenvalue or the hoop rate θθ, whichever is larger; the tensile strain rate that sets
+/// concrete's dynamic tensile strength.
+#[inline]
+pub fn largest_principal_rate(rr: f32, zz: f32, rz: f32, tt: f32) -> f32 {
+    let mean = 0.5 * (rr + zz);
+    let half = 0.5 * (rr - zz);
+    (mean + (half * half + rz * rz).sqrt()).max(tt).max(0.0)
+}
+
 /// Von Mises equivalent stress sqrt(3/2 S:S) of a deviator.
 #[inline]
 pub fn von_mises(s: &[f32; 4]) -> f32 {

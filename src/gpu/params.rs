@@ -85,6 +85,11 @@ pub struct SphUniform {
     pub k3: f32,
     pub p_lock: f32,
     pub mu_lock: f32,
+    /// Fracture energy G_f (J/m²).
+    pub g_f: f32,
+    /// Width of the crack band (m): the spacing with target.tension = "crack-band", 0 for
+    /// "static" (materials::hjc::Tension).
+    pub crack_band: f32,
 }
 }
 
@@ -126,6 +131,11 @@ impl SphUniform {
             k3: c.k3,
             p_lock: c.p_lock,
             mu_lock: c.mu_lock,
+            g_f: c.g_f,
+            crack_band: match p.tension {
+                crate::materials::hjc::Tension::Static => 0.0,
+                crate::materials::hjc::Tension::CrackBand { band } => band,
+            },
         }
     }
 }

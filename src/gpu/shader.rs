@@ -222,6 +222,14 @@ fn shared_constants() -> Vec<(&'static str, Value)> {
         ),
         ("HJC_POW_BASE_FLOOR", F32(hjc::POW_BASE_FLOOR)),
         ("HJC_FAILURE_STRAIN_FLOOR", F32(hjc::FAILURE_STRAIN_FLOOR)),
+        ("HJC_TENSILE_RATE_REF", F32(hjc::TENSILE_RATE_REF)),
+        ("HJC_TENSILE_RATE_KNEE", F32(hjc::TENSILE_RATE_KNEE)),
+        ("HJC_TENSILE_RATE_LIMIT", F32(hjc::TENSILE_RATE_LIMIT)),
+        ("HJC_TENSILE_RATE_EXPONENT", F32(hjc::TENSILE_RATE_EXPONENT)),
+        (
+            "HJC_TENSILE_RATE_COEFFICIENT",
+            F32(hjc::TENSILE_RATE_COEFFICIENT),
+        ),
         ("JC_POW_BASE_FLOOR", F32(johnson_cook::POW_BASE_FLOOR)),
         ("JC_HARDENING_EPS_FLOOR", F32(flow::HARDENING_EPS_FLOOR)),
         (

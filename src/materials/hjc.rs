@@ -24,6 +24,9 @@ pub struct Hjc {
     pub k3: f32,
     pub p_lock: f32,
     pub mu_lock: f32,
+    /// Fracture energy G_f (J/m²): the work to open a unit area of tensile crack, which the
+    /// crack band spends (physics.md §3.1, "Tension").
+    pub g_f: f32,
 }
 
 impl Hjc {
@@ -50,6 +53,7 @@ impl Hjc {
             k3: 208.0e9,
             p_lock: 0.8e9,
             mu_lock: 0.10,
+            g_f: fracture_energy(48.0e6),
         }
     }
 
@@ -60,7 +64,8 @@ impl Hjc {
     /// locking strain from the porosity, μ_lock = ρ_grain/ρ₀ − 1 with [`GRAIN_DENSITY`] (HJC's
     /// own definition: the strain at which the air voids are gone; 0.10 at the reference 2440
     /// kg/m³, 0.1325 at 2370). A target at least as dense as the grains gets μ_lock ≤ 0, which
-    /// the scene check refuses, asking for an explicit `mu_lock`.
+    /// the scene check refuses, asking for an explicit `mu_lock`. The fracture energy is
+    /// [`fracture_energy`]'s.
     pub fn from_fc(fc: f32, density: f32) -> Hjc {
         let fc_mpa = fc / 1.0e6;
         let youngs = 4730.0e6 * fc_mpa.sqrt();
@@ -76,9 +81,75 @@ impl Hjc {
             p_crush,
             mu_crush: p_crush / bulk_elastic,
             mu_lock: GRAIN_DENSITY / density - 1.0,
+            g_f: fracture_energy(fc),
             ..Hjc::reference_48mpa()
         }
     }
+}
+
+/// Fracture energy of a concrete of strength `fc` (Pa), J/m²: fib Model Code 2010's
+/// G_F = 73 f_c^0.18 (f_c in MPa, G_F in N/m); 138 J/m² at 35 MPa.
+pub fn fracture_energy(fc: f32) -> f32 {
+    73.0 * (fc / 1.0e6).max(POW_BASE_FLOOR).powf(0.18)
+}
+
+/// How the concrete fails in tension (`target.tension`, physics.md §3.1 "Tension").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tension {
+    /// HJC as published: the cut-off −T(1 − D) at the static T, damage at HJC's failure
+    /// strain (EF_min in tension), so the work to open a crack grows with the spacing.
+    Static,
+    /// Tensile strength raised by the strain rate ([`tensile_rate_factor`]), and in tension
+    /// the damage of a crack band `band` wide (m, the particle spacing) that spends G_f per
+    /// unit crack area whatever the spacing ([`crack_failure_strain`]).
+    CrackBand { band: f32 },
+}
+
+/// Dynamic increase of the tensile strength at the tensile strain rate ε̇ (1/s), fib Model
+/// Code 2010: (ε̇/ε̇₀)^0.018 up to 10 s⁻¹, 0.0062 (ε̇/ε̇₀)^(1/3) above, ε̇₀ = 1e-6 s⁻¹; 1 below
+/// ε̇₀. The Code gives it up to [`TENSILE_RATE_LIMIT`], and the rate is held there beyond:
+/// the factor is not extrapolated past the data it was fitted to (4.15 there).
+pub fn tensile_rate_factor(rate: f32) -> f32 {
+    let ratio = (rate.min(TENSILE_RATE_LIMIT) / TENSILE_RATE_REF).max(1.0);
+    if rate <= TENSILE_RATE_KNEE {
+        ratio.powf(TENSILE_RATE_EXPONENT)
+    } else {
+        TENSILE_RATE_COEFFICIENT * ratio.cbrt()
+    }
+}
+
+/// ε̇₀ of the Code's tensile rate factor (1/s).
+pub(crate) const TENSILE_RATE_REF: f32 = 1.0e-6;
+/// Where the Code's two branches of the factor meet (1/s).
+pub(crate) const TENSILE_RATE_KNEE: f32 = 10.0;
+/// The slow branch's exponent and the fast branch's coefficient.
+pub(crate) const TENSILE_RATE_EXPONENT: f32 = 0.018;
+pub(crate) const TENSILE_RATE_COEFFICIENT: f32 = 0.0062;
+/// The largest rate the Code's factor covers (1/s).
+pub const TENSILE_RATE_LIMIT: f32 = 300.0;
+
+/// The tensile strength (Pa) at the tensile strain rate `rate`: T, or T times
+/// [`tensile_rate_factor`] for the crack band.
+pub fn tensile_strength(h: &Hjc, tension: Tension, rate: f32) -> f32 {
+    match tension {
+        Tension::Static => h.t,
+        Tension::CrackBand { .. } => h.t * tensile_rate_factor(rate),
+    }
+}
+
+/// The failure strain of a crack band `band` wide at tensile strength `t_d`: the inelastic
+/// strain over which the cut-off −T_d(1 − D) falls linearly to zero while the band spends
+/// G_f per unit area, ε_ft = 2 G_f/(T_d l) (Bažant & Oh 1983).
+pub fn crack_failure_strain(h: &Hjc, t_d: f32, band: f32) -> f32 {
+    (2.0 * h.g_f / (t_d * band)).max(FAILURE_STRAIN_FLOOR)
+}
+
+/// The widest crack band whose softening is no steeper than the elastic line (m):
+/// ε_ft ≥ T_d/K_el at the largest rate factor, l ≤ 2 G_f K_el/T_d². Wider, the band would
+/// snap back and spend more than G_f.
+pub fn widest_crack_band(h: &Hjc) -> f32 {
+    let t_d = h.t * tensile_rate_factor(TENSILE_RATE_LIMIT);
+    2.0 * h.g_f * (h.p_crush / h.mu_crush) / (t_d * t_d)
 }
 
 /// Grain (pore-free) density of the reference concrete, ρ₀(1 + μ_lock) of the 48 MPa set:
@@ -241,7 +312,7 @@ fn crush_envelope(h: &Hjc, m: f32, k_el: f32, mu_plock: f32) -> (f32, f32) {
 ///   K₁ as m goes from μ_crush to μ_plock;
 /// - m ≥ μ_plock (locked): the fully dense curve p = K₁μ̄ + K₂μ̄² + K₃μ̄³,
 ///   μ̄ = (μ − μ_lock)/(1 + μ_lock), on loading and unloading alike;
-/// - tension cut-off p ≥ −T(1 − D).
+/// - tension cut-off p ≥ −T_d(1 − D), `t_d` the tensile strength ([`tensile_strength`]).
 ///
 /// `d_mu_p` = μ_p(m) − μ_p(μ_max) with μ_p(m) = m − p_env(m)/K_unload(m) (zero once locked).
 /// `tangent` = K_unload (or the crushing slope if larger) before locking, the dense slope
@@ -258,7 +329,7 @@ fn crush_envelope(h: &Hjc, m: f32, k_el: f32, mu_plock: f32) -> (f32, f32) {
 ///
 /// `mu_plock` is [`lock_strain`]`(h)`, which depends on the constants only: the caller computes
 /// it once, not per particle and step.
-pub fn pressure(h: &Hjc, mu_plock: f32, mu: f32, mu_max: f32, damage: f32) -> HjcEos {
+pub fn pressure(h: &Hjc, mu_plock: f32, mu: f32, mu_max: f32, damage: f32, t_d: f32) -> HjcEos {
     let k_el = h.p_crush / h.mu_crush;
     let new_max = mu.max(mu_max);
 
@@ -287,7 +358,7 @@ pub fn pressure(h: &Hjc, mu_plock: f32, mu: f32, mu_max: f32, damage: f32) -> Hj
     .max(0.0);
     let d = damage.clamp(0.0, 1.0);
     HjcEos {
-        p: p.max(-h.t * (1.0 - d)),
+        p: p.max(-t_d * (1.0 - d)),
         mu_max: new_max,
         d_mu_p,
         tangent: tangent.max(k_el),
@@ -301,20 +372,35 @@ fn rate_factor(h: &Hjc, eps_rate: f32) -> f32 {
 
 /// Equivalent yield stress σ_y = f_c·σ* (Pa, ≥ 0), physics.md §3.1, P* = p/f_c, ε̇* = max(ε̇/ε̇₀, 1):
 /// P* ≥ 0: σ* = min([A(1 − D) + B P*^N](1 + C ln ε̇*), S_max);
-/// P* < 0: σ* = max(A(1 + p/T)(1 − D)(1 + C ln ε̇*), 0). Both give A(1 − D)(1 + C ln ε̇*) at p = 0.
-pub fn yield_stress(h: &Hjc, p: f32, damage: f32, eps_rate: f32) -> f32 {
+/// P* < 0: σ* = max(A(1 + p/T_d)(1 − D)(1 + C ln ε̇*), 0), `t_d` the tensile strength of the
+/// cut-off ([`tensile_strength`]). Both give A(1 − D)(1 + C ln ε̇*) at p = 0.
+pub fn yield_stress(h: &Hjc, p: f32, damage: f32, eps_rate: f32, t_d: f32) -> f32 {
     let d = damage.clamp(0.0, 1.0);
     let rate = rate_factor(h, eps_rate);
     let p_star = p / h.fc;
     let hardening = h.b * p_star.max(POW_BASE_FLOOR).powf(h.n);
     let compressive = ((h.a * (1.0 - d) + hardening) * rate).min(h.s_max);
-    let tensile = (h.a * (1.0 + p / h.t) * (1.0 - d) * rate).max(0.0);
+    let tensile = (h.a * (1.0 + p / t_d) * (1.0 - d) * rate).max(0.0);
     h.fc * if p_star >= 0.0 { compressive } else { tensile }
 }
 
-/// Damage increment, physics.md §3.1: ΔD = (Δε_p + Δμ_p)/max(D₁(P* + T*)^D₂, EF_min),
-/// P* = p/f_c, T* = T/f_c; P* + T* < 0 gives EF_min. The caller caps the sum D at 1.
-pub fn damage_increment(h: &Hjc, p: f32, d_eps_p: f32, d_mu_p: f32) -> f32 {
+/// Damage increment, physics.md §3.1, the caller capping the sum D at 1. In compression
+/// (p ≥ 0), and in tension without the crack band, HJC's ΔD = (Δε_p + Δμ_p)/max(D₁(P* +
+/// T*)^D₂, EF_min), P* = p/f_c, T* = T/f_c (the static T); P* + T* < 0 gives EF_min. In
+/// tension with the crack band, ΔD = (Δε_p + Δε_o)/ε_ft ([`crack_failure_strain`] at `t_d`),
+/// Δε_o the crack's opening in this step (the expansion while at the cut-off).
+pub fn damage_increment(
+    h: &Hjc,
+    tension: Tension,
+    p: f32,
+    t_d: f32,
+    d_eps_p: f32,
+    d_mu_p: f32,
+    d_open: f32,
+) -> f32 {
+    if let (Tension::CrackBand { band }, true) = (tension, p < 0.0) {
+        return (d_eps_p + d_open) / crack_failure_strain(h, t_d, band);
+    }
     let base = (p + h.t) / h.fc;
     let eps_f = (h.d1 * base.max(POW_BASE_FLOOR).powf(h.d2))
         .max(h.ef_min)
@@ -399,12 +485,12 @@ mod tests {
     fn eos_elastic() {
         let h = Hjc::reference_48mpa();
         // μ = 5e-4 ≤ μ_crush: p = 16e9·5e-4 = 8 MPa, no plastic volume, tangent K_el.
-        let e = pressure(&h, lock_strain(&h), 5.0e-4, 0.0, 0.0);
+        let e = pressure(&h, lock_strain(&h), 5.0e-4, 0.0, 0.0, h.t);
         assert_rel(e.p, 8.0e6, 1e-5);
         assert_eq!((e.mu_max, e.d_mu_p), (5.0e-4, 0.0));
         assert_rel(e.tangent, 16.0e9, 1e-6);
         // μ = −2e-4: p = −3.2 MPa, above the −4 MPa cut-off; μ_max stays 0.
-        let e = pressure(&h, lock_strain(&h), -2.0e-4, 0.0, 0.0);
+        let e = pressure(&h, lock_strain(&h), -2.0e-4, 0.0, 0.0, h.t);
         assert_rel(e.p, -3.2e6, 1e-5);
         assert_eq!(e.mu_max, 0.0);
     }
@@ -414,7 +500,7 @@ mod tests {
         let h = Hjc::reference_48mpa();
         // Loading from μ_max = 0.03 to μ = 0.05:
         // p = 16e6 + 7.1562694e9·(0.05 − 0.001) = 16e6 + 350.65720e6 = 366.65720 MPa
-        let e = pressure(&h, lock_strain(&h), 0.05, 0.03, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.05, 0.03, 0.0, h.t);
         assert_rel(e.p, 366.65720e6, 1e-5);
         assert_eq!(e.mu_max, 0.05);
         // K_unload(m) = 16e9 + 69e9·(m − 0.001)/0.10955429:
@@ -435,13 +521,13 @@ mod tests {
         let h = Hjc::reference_48mpa();
         // From μ_max = 0.05 back to 0.045: p = 366.65720e6 − 46.861412e9·0.005
         //   = 366.65720e6 − 234.30706e6 = 132.35014 MPa; no new plastic volume.
-        let e = pressure(&h, lock_strain(&h), 0.045, 0.05, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.045, 0.05, 0.0, h.t);
         assert_rel(e.p, 132.35014e6, 1e-5);
         assert_eq!((e.mu_max, e.d_mu_p), (0.05, 0.0));
         assert_rel(e.tangent, 46.861412e9, 1e-5);
         // Reloading to 0.049 stays on the same line: 366.65720e6 − 46.861412e9·0.001 = 319.79579 MPa
         assert_rel(
-            pressure(&h, lock_strain(&h), 0.049, 0.05, 0.0).p,
+            pressure(&h, lock_strain(&h), 0.049, 0.05, 0.0, h.t).p,
             319.79579e6,
             1e-5,
         );
@@ -453,7 +539,7 @@ mod tests {
         // μ = 0.12: μ̄ = 0.02/1.1 = 0.018181818
         // p = 85e9·0.018181818 − 171e9·3.3057851e-4 + 208e9·6.0105184e-6
         //   = 1545.4545e6 − 56.528926e6 + 1.2501878e6 = 1490.1758 MPa
-        let e = pressure(&h, lock_strain(&h), 0.12, 0.0, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.12, 0.0, 0.0, h.t);
         assert_rel(e.p, 1490.1758e6, 1e-5);
         // Plastic volume from 0 to locking: μ_plock − P_lock/K₁ = 0.11055429 − 9.4117647e-3
         //   = 0.10114252 (≈ μ_lock, as in LAW126)
@@ -462,7 +548,7 @@ mod tests {
         //   = (85e9 − 6.2181818e9 + 0.20628099e9)/1.1 = 78.988099e9/1.1 = 71.807363 GPa
         assert_rel(e.tangent, 71.807363e9, 1e-5);
         // Once locked, unloading follows the same curve and adds no plastic volume.
-        let e = pressure(&h, lock_strain(&h), 0.12, 0.2, 0.0);
+        let e = pressure(&h, lock_strain(&h), 0.12, 0.2, 0.0, h.t);
         assert_rel(e.p, 1490.1758e6, 1e-5);
         assert_eq!((e.mu_max, e.d_mu_p), (0.2, 0.0));
     }
@@ -471,8 +557,8 @@ mod tests {
     fn eos_is_continuous_at_the_lock() {
         let h = Hjc::reference_48mpa();
         let mu = lock_strain(&h);
-        let below = pressure(&h, lock_strain(&h), mu * (1.0 - 1.0e-5), 0.0, 0.0).p;
-        let above = pressure(&h, lock_strain(&h), mu * (1.0 + 1.0e-5), 0.0, 0.0).p;
+        let below = pressure(&h, lock_strain(&h), mu * (1.0 - 1.0e-5), 0.0, 0.0, h.t).p;
+        let above = pressure(&h, lock_strain(&h), mu * (1.0 + 1.0e-5), 0.0, 0.0, h.t).p;
         // Both within one tangent step (≤ 85 GPa·2.2e-6 ≈ 0.19 MPa) of P_lock = 800 MPa.
         assert_rel(below, 800.0e6, 5e-4);
         assert_rel(above, 800.0e6, 5e-4);
@@ -483,28 +569,28 @@ mod tests {
         let h = Hjc::reference_48mpa();
         // Elastic μ = −1e-3 would give −16 MPa; cut at −T = −4 MPa, or −T(1 − 0.5) = −2 MPa.
         assert_rel(
-            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.0).p,
+            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.0, h.t).p,
             -4.0e6,
             1e-6,
         );
         assert_rel(
-            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.5).p,
+            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.5, h.t).p,
             -2.0e6,
             1e-6,
         );
         // Unloading from a crushed state into tension: 366.66e6 − 46.86e9·0.02 < 0 → cut.
         assert_rel(
-            pressure(&h, lock_strain(&h), 0.03, 0.05, 0.0).p,
+            pressure(&h, lock_strain(&h), 0.03, 0.05, 0.0, h.t).p,
             -4.0e6,
             1e-6,
         );
         assert_rel(
-            pressure(&h, lock_strain(&h), 0.03, 0.05, 0.5).p,
+            pressure(&h, lock_strain(&h), 0.03, 0.05, 0.5, h.t).p,
             -2.0e6,
             1e-6,
         );
         // Fully damaged: no tension at all.
-        assert_eq!(pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 1.0).p, 0.0);
+        assert_eq!(pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 1.0, h.t).p, 0.0);
     }
 
     #[test]
@@ -513,17 +599,17 @@ mod tests {
         // Rate factor at 100/s: 1 + 0.007·ln 100 = 1 + 0.007·4.6051702 = 1.0322362
         // P* = 96/48 = 2, D = 0.2: [0.79·0.8 + 1.6·2^0.61]·1.0322362 = [0.632 + 1.6·1.5262592]
         //   ·1.0322362 = 3.0740147·1.0322362 = 3.1731093 → ·48 MPa = 152.30924 MPa
-        assert_rel(yield_stress(&h, 96.0e6, 0.2, 100.0), 152.30924e6, 1e-5);
+        assert_rel(yield_stress(&h, 96.0e6, 0.2, 100.0, h.t), 152.30924e6, 1e-5);
         // p = 0: 0.79·0.8·1.0322362·48e6 = 31.313917 MPa, from both formulas.
-        assert_rel(yield_stress(&h, 0.0, 0.2, 100.0), 31.313917e6, 1e-5);
+        assert_rel(yield_stress(&h, 0.0, 0.2, 100.0, h.t), 31.313917e6, 1e-5);
         // p = −2 MPa: 0.79·(1 − 0.5)·0.8·1.0322362·48e6 = 15.656959 MPa
-        assert_rel(yield_stress(&h, -2.0e6, 0.2, 100.0), 15.656959e6, 1e-5);
+        assert_rel(yield_stress(&h, -2.0e6, 0.2, 100.0, h.t), 15.656959e6, 1e-5);
         // Beyond −T the tensile branch is floored at 0.
-        assert_eq!(yield_stress(&h, -5.0e6, 0.0, 100.0), 0.0);
+        assert_eq!(yield_stress(&h, -5.0e6, 0.0, 100.0, h.t), 0.0);
         // P* = 50: 1.6·50^0.61 = 17.4 > S_max = 7 → 7·48e6 = 336 MPa.
-        assert_rel(yield_stress(&h, 2.4e9, 0.0, 100.0), 336.0e6, 1e-6);
+        assert_rel(yield_stress(&h, 2.4e9, 0.0, 100.0, h.t), 336.0e6, 1e-6);
         // Below ε̇₀ no rate effect: (0.79 + 2.4420147)·48e6 = 3.2320147·48e6 = 155.13671 MPa
-        assert_rel(yield_stress(&h, 96.0e6, 0.0, 0.1), 155.13671e6, 1e-5);
+        assert_rel(yield_stress(&h, 96.0e6, 0.0, 0.1, h.t), 155.13671e6, 1e-5);
     }
 
     #[test]
@@ -531,11 +617,23 @@ mod tests {
         let h = Hjc::reference_48mpa();
         // p = 96 MPa: P* + T* = 2 + 4/48 = 2.0833333, D₁(·)^1 = 0.083333333
         // (0.01 + 0.002)/0.083333333 = 0.144
-        assert_rel(damage_increment(&h, 96.0e6, 0.01, 0.002), 0.144, 1e-5);
+        assert_rel(
+            damage_increment(&h, Tension::Static, 96.0e6, h.t, 0.01, 0.002, 0.0),
+            0.144,
+            1e-5,
+        );
         // p = −3 MPa: 0.04·(1/48) = 8.3e-4 < EF_min → 0.012/0.01 = 1.2
-        assert_rel(damage_increment(&h, -3.0e6, 0.01, 0.002), 1.2, 1e-5);
+        assert_rel(
+            damage_increment(&h, Tension::Static, -3.0e6, h.t, 0.01, 0.002, 0.0),
+            1.2,
+            1e-5,
+        );
         // P* + T* < 0 (p = −5 MPa): EF_min as well.
-        assert_rel(damage_increment(&h, -5.0e6, 0.01, 0.002), 1.2, 1e-5);
+        assert_rel(
+            damage_increment(&h, Tension::Static, -5.0e6, h.t, 0.01, 0.002, 0.0),
+            1.2,
+            1e-5,
+        );
     }
 
     #[test]
@@ -581,15 +679,69 @@ mod tests {
         let h = Hjc::reference_48mpa();
         for mu in [-0.9, -1.0e-9, 0.0, 1.0e-9, 0.5, 3.0] {
             for mu_max in [0.0, 0.05, 0.2] {
-                let e = pressure(&h, lock_strain(&h), mu, mu_max, 0.3);
+                let e = pressure(&h, lock_strain(&h), mu, mu_max, 0.3, h.t);
                 assert!(e.p.is_finite() && e.d_mu_p.is_finite() && e.tangent.is_finite());
                 assert!(
                     e.d_mu_p >= 0.0 && e.tangent >= 15.9999e9,
                     "{mu} {mu_max}: {e:?}"
                 );
                 assert!(sound_speed(&h, e.tangent).is_finite());
-                assert!(yield_stress(&h, e.p, 0.3, 1.0e6) >= 0.0);
+                assert!(yield_stress(&h, e.p, 0.3, 1.0e6, h.t) >= 0.0);
             }
         }
+    }
+
+    #[test]
+    fn fracture_energy_follows_the_model_code() {
+        // 73·35^0.18 = 73·1.8964100 = 138.43793 J/m²; 73·48^0.18 = 146.53666.
+        assert_rel(fracture_energy(35.0e6), 138.43793, 1e-5);
+        assert_rel(Hjc::reference_48mpa().g_f, 146.53666, 1e-5);
+        assert_rel(Hjc::from_fc(35.0e6, 2370.0).g_f, 138.43793, 1e-5);
+    }
+
+    #[test]
+    fn tensile_rate_factor_follows_the_model_code() {
+        // (1e6)^0.018 = 1.2823306; (1e7)^0.018 = 1.3365955; above 10/s 0.0062·(ε̇/1e-6)^(1/3):
+        // 0.0062·464.15888 = 2.8777851 at 100/s, 0.0062·669.43295 = 4.1504843 at 300/s.
+        assert_eq!(tensile_rate_factor(1.0e-7), 1.0);
+        assert_eq!(tensile_rate_factor(0.0), 1.0);
+        assert_rel(tensile_rate_factor(1.0), 1.2823306, 1e-5);
+        assert_rel(tensile_rate_factor(10.0), 1.3365955, 1e-5);
+        assert_rel(tensile_rate_factor(100.0), 2.8777851, 1e-5);
+        assert_rel(tensile_rate_factor(300.0), 4.1504843, 1e-5);
+        // Not extrapolated beyond the Code's range.
+        assert_eq!(tensile_rate_factor(1.0e4), tensile_rate_factor(300.0));
+        let h = Hjc::reference_48mpa();
+        assert_eq!(tensile_strength(&h, Tension::Static, 100.0), h.t);
+        let band = Tension::CrackBand { band: 0.004 };
+        assert_rel(tensile_strength(&h, band, 100.0), 4.0e6 * 2.8777851, 1e-5);
+    }
+
+    #[test]
+    fn crack_band_damage_in_tension_only() {
+        let h = Hjc::reference_48mpa();
+        let band = Tension::CrackBand { band: 0.004 };
+        // ε_ft = 2·146.53666/(4e6·0.004) = 0.018317083: (0.001 + 0.002)/ε_ft = 0.16378154.
+        assert_rel(crack_failure_strain(&h, 4.0e6, 0.004), 0.018317083, 1e-5);
+        assert_rel(
+            damage_increment(&h, band, -1.0e6, 4.0e6, 0.001, 0.0, 0.002),
+            0.16378154,
+            1e-5,
+        );
+        // In compression the crack band leaves HJC's rule (and the opening) alone.
+        assert_eq!(
+            damage_increment(&h, band, 96.0e6, 4.0e6, 0.01, 0.002, 0.5),
+            damage_increment(&h, Tension::Static, 96.0e6, 4.0e6, 0.01, 0.002, 0.0)
+        );
+        // The cut-off and the tensile strength branch follow the dynamic T_d.
+        assert_rel(
+            pressure(&h, lock_strain(&h), -1.0e-3, 0.0, 0.0, 8.0e6).p,
+            -8.0e6,
+            1e-6,
+        );
+        // p = −4 MPa against T_d = 8 MPa: 0.79·0.5·48e6 = 18.96 MPa (rate factor 1 at 1/s).
+        assert_rel(yield_stress(&h, -4.0e6, 0.0, 1.0, 8.0e6), 18.96e6, 1e-5);
+        // The widest band: 2·146.53666·16e9/(4e6·4.1504843)² = 0.017012915 m.
+        assert_rel(widest_crack_band(&h), 0.017012915, 1e-5);
     }
 }

@@ -184,6 +184,8 @@ pub struct TargetSpec {
     pub velocity_filter: VelocityFilter,
     /// Which SPH gradient of it.
     pub velocity_gradient: VelocityGradient,
+    /// How the concrete fails in tension.
+    pub tension: TensionModel,
     /// A hole drilled into the front face along the axis (m; 0: none): the particles whose
     /// centres lie inside it are left out, and the nose starts at its bottom by default if the
     /// projectile fits in it; a pilot hole narrower than the projectile leaves it at the face.
@@ -263,6 +265,25 @@ impl VelocityGradient {
         match self {
             VelocityGradient::Corrected => "corrected",
             VelocityGradient::Conjugate => "conjugate",
+        }
+    }
+}
+
+/// `target.tension`: how the concrete fails in tension (`materials::hjc::Tension`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TensionModel {
+    /// Tensile strength raised by the strain rate, softening spent over a crack band one
+    /// particle spacing wide with the fracture energy G_f.
+    CrackBand,
+    /// HJC as published: the static cut-off, damage at HJC's failure strain.
+    Static,
+}
+
+impl TensionModel {
+    pub fn name(self) -> &'static str {
+        match self {
+            TensionModel::CrackBand => "crack-band",
+            TensionModel::Static => "static",
         }
     }
 }

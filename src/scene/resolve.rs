@@ -9,8 +9,8 @@ use super::parse::{Given, Val};
 use super::schema::{self as k, DefaultValue, Key, Ty};
 use super::{
     approx, num, render, Backend, CavitySpec, ContactSpec, ProjectileShape, ProjectileSpec,
-    RunControl, Scene, SceneError, TargetSpec, VelocityFilter, VelocityGradient, ViscositySwitch,
-    WallSpec,
+    RunControl, Scene, SceneError, TargetSpec, TensionModel, VelocityFilter, VelocityGradient,
+    ViscositySwitch, WallSpec,
 };
 use crate::materials::hjc::Hjc;
 
@@ -467,6 +467,10 @@ fn resolve_target(c: &Check, projectile: &ProjectileSpec) -> Result<TargetSpec, 
         "corrected" => VelocityGradient::Corrected,
         _ => VelocityGradient::Conjugate,
     };
+    let tension = match c.choice(&k::TENSION)? {
+        "static" => TensionModel::Static,
+        _ => TensionModel::CrackBand,
+    };
     // The filter fits a linear field with the corrected gradient and moves the velocities off
     // the particles' own: the conjugate rate is the forces' only for the particles' own.
     if velocity_gradient == VelocityGradient::Conjugate && velocity_filter == VelocityFilter::Linear
@@ -502,6 +506,20 @@ fn resolve_target(c: &Check, projectile: &ProjectileSpec) -> Result<TargetSpec, 
             approx(2.0 * (radius - 4.0 * spacing))
         ),
     )?;
+    let concrete = resolve_hjc(c, fc, density)?;
+    let widest = f64::from(crate::materials::hjc::widest_crack_band(&concrete));
+    c.require(
+        tension == TensionModel::Static || spacing <= widest,
+        k::TARGET_SPACING.path,
+        spacing,
+        &format!(
+            "must be ≤ {} m with target.tension = \"crack-band\": a crack band one spacing \
+             wide would soften faster than the concrete unloads and spend more than its \
+             fracture energy (2·G_f·K_el/T_d², T_d the tensile strength at 300/s); refine, \
+             or set target.tension = \"static\"",
+            approx(widest)
+        ),
+    )?;
     Ok(TargetSpec {
         radius,
         thickness,
@@ -517,7 +535,8 @@ fn resolve_target(c: &Check, projectile: &ProjectileSpec) -> Result<TargetSpec, 
         velocity_gradient,
         lead_hole_depth,
         lead_hole_diameter,
-        concrete: resolve_hjc(c, fc, density)?,
+        tension,
+        concrete,
     })
 }
 
@@ -544,6 +563,7 @@ fn resolve_hjc(c: &Check, fc: f64, density: f64) -> Result<Hjc, SceneError> {
         (&k::HJC_K3, &mut h.k3),
         (&k::HJC_P_LOCK, &mut h.p_lock),
         (&k::HJC_MU_LOCK, &mut h.mu_lock),
+        (&k::HJC_FRACTURE_ENERGY, &mut h.g_f),
     ];
     for (key, field) in fields {
         if let Some(v) = c.given_num(key) {

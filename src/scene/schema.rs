@@ -634,6 +634,13 @@ schema! {
         default: DefaultValue::Text("conjugate"),
         help: "Which SPH estimate of the velocity gradient updates the concrete's stress",
         show: |s| target(s, |t| Text(t.velocity_gradient.name().into())) }
+    TENSION = "target.tension" {
+        ty: Ty::Choice { names: &["crack-band", "static"], quoted: true },
+        default: DefaultValue::Text("crack-band"),
+        help: "How the concrete fails in tension: \"crack-band\" (rate-dependent strength, \
+               softening that spends target.concrete.fracture_energy per crack area) or \
+               \"static\" (HJC's cut-off as published)",
+        show: |s| target(s, |t| Text(t.tension.name().into())) }
     LEAD_HOLE_DEPTH = "target.lead_hole_depth" { unit: "m", default: DefaultValue::Number(0.0),
         bounds: Range("≥ 0"),
         help: "Depth of a hole drilled along the axis (0: none); leaves 4 spacings below it",
@@ -688,6 +695,10 @@ schema! {
         bounds: Rule("> target.concrete.mu_crush"),
         help: "Locking volumetric strain (grain density/target.density − 1 by the rule)",
         show: |s| concrete(s, |h| h.mu_lock) }
+    HJC_FRACTURE_ENERGY = "target.concrete.fracture_energy" { unit: "J/m²",
+        default: Derived("73·f_c[MPa]^0.18 (fib Model Code 2010)"), bounds: Range("> 0"),
+        help: "Fracture energy G_f spent per crack area (target.tension = \"crack-band\")",
+        show: |s| concrete(s, |h| h.g_f) }
 
     CONTACT_LAMBDA = "contact.lambda" { default: DefaultValue::Number(0.2), bounds: Range("[0, 1]"),
         why: ": the local share of the momentum transport (0 = rigid projectile)",
