@@ -33,6 +33,33 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// The shipped perforation case at twice its spacing and element size: the projectile leaves
+/// the free-backed slab (the run stops on it, before its end time), slower than it struck,
+/// with concrete thrown off the rear face, and the energy account closes.
+#[test]
+fn a_projectile_perforates_a_free_backed_slab() {
+    let coarse = ["target.spacing=0.008", "projectile.element_size=0.006"].map(String::from);
+    let scene = scene::load(&case("slab-perforation.toml"), &coarse).unwrap();
+    let out = scratch("perforation");
+    let outcome = common::run_cpu(&scene, &out, false);
+    let s = &outcome.summary;
+    assert!(outcome.ok, "status: {}", s.status);
+    assert_eq!(s.stop_reason, "projectile left the target (perforation)");
+    assert!(s.time_s < scene.run.end_time, "stopped at {} s", s.time_s);
+    let striking = scene.projectile.velocity;
+    assert!(
+        s.projectile_velocity_m_s > 0.0 && s.projectile_velocity_m_s < striking,
+        "residual velocity {} m/s, striking {striking}",
+        s.projectile_velocity_m_s
+    );
+    assert!(s.rear_ejecta_kg > 0.0, "nothing left the rear face");
+    assert!(s.energy_error < 0.01, "energy error {}", s.energy_error);
+    eprintln!(
+        "perforation: residual {:.1} m/s, rear ejecta {:.3} kg, front {:.3} kg",
+        s.projectile_velocity_m_s, s.rear_ejecta_kg, s.front_ejecta_kg
+    );
+}
+
 /// A short coupled run completes with finite fields and writes its outputs.
 #[test]
 fn smoke_case_runs_with_finite_fields() {

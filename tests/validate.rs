@@ -60,7 +60,7 @@ fn quick_validation_writes_every_section() {
     assert!(report.contains("Quick run") && report.contains("not validation"));
     assert!(report.contains(
         "Sections run: taylor, forrestal, crh3-rods, target-size, convergence, \
-         rigid-vs-elastic, deformation, shell, nose-lining"
+         rigid-vs-elastic, deformation, shell, nose-lining, tension"
     ));
     for title in [
         "## Checks",
@@ -75,6 +75,8 @@ fn quick_validation_writes_every_section() {
         "## Shell projectile",
         "critical velocity",
         "## Concrete lining the nose: CRH 2 against CRH 6",
+        "## Concrete in tension: the crack band and a free-backed slab",
+        "the projectile leaves the slab at both resolutions",
     ] {
         assert!(report.contains(title), "report.md lacks {title}");
     }
@@ -91,18 +93,19 @@ fn quick_validation_writes_every_section() {
         "deformation",
         "shell",
         "nose-lining",
+        "tension",
     ] {
         let command = format!("- Command: `penetrate validate --only {name} --backend cpu");
         assert!(report.contains(&command), "report.md lacks {command}");
     }
-    assert_eq!(report.matches("\n- Data source: ").count(), 9);
-    assert_eq!(report.matches("\n- Verdict: ").count(), 9);
+    assert_eq!(report.matches("\n- Data source: ").count(), 10);
+    assert_eq!(report.matches("\n- Verdict: ").count(), 10);
     assert!(summary.contains("not validation"), "{summary}");
     assert!(
         summary.contains("[Forrestal et al. (1994) shots](report.md#forrestal-et-al-1994-shots)"),
         "{summary}"
     );
-    assert_eq!(summary.matches("](report.md#").count(), 9, "{summary}");
+    assert_eq!(summary.matches("](report.md#").count(), 10, "{summary}");
     // The data files name their columns in a comment: every other line is a shot.
     let shots = |file: &str| {
         csv::ReaderBuilder::new()
@@ -124,6 +127,8 @@ fn quick_validation_writes_every_section() {
         ("convergence/roundoff.csv", 10),
         ("rigid-vs-elastic/rigid-vs-elastic.csv", 4),
         ("deformation/deformation.csv", 3),
+        // Two tension models at two resolutions.
+        ("tension/slab.csv", 4),
     ] {
         let lines = csv_rows(&out.join(csv));
         assert_eq!(lines.len(), rows, "{csv}: {lines:?}");
@@ -151,6 +156,8 @@ fn quick_validation_writes_every_section() {
     assert!(lining
         .iter()
         .all(|l| l.iter().all(|f| f.parse::<f64>().is_ok_and(f64::is_finite))));
+    // Two paths, two models, three bands of material points.
+    assert_eq!(csv_rows(&out.join("tension/material-points.csv")).len(), 12);
     let mut found = Vec::new();
     pngs(&out, &mut found);
     // At least these 19: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two

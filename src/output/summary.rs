@@ -113,6 +113,13 @@ pub struct Summary {
     /// debris that separated from its neighbours.
     #[serde(default)]
     pub particles_at_density_floor: usize,
+    /// Concrete thrown off the front face (the entry crater's spall) and off the rear face
+    /// (scabbing) at the end: the mass of the particles lying more than one spacing outside
+    /// the slab's original faces (kg; `Model::ejecta`).
+    #[serde(default)]
+    pub front_ejecta_kg: f64,
+    #[serde(default)]
+    pub rear_ejecta_kg: f64,
     /// Largest speed of a particle or node at the end (m/s).
     pub max_speed_m_s: f64,
     /// GPU runs: how many steps built the SPH neighbour lists (the rest reused them).

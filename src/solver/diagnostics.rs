@@ -170,6 +170,26 @@ impl Model {
         })
     }
 
+    /// Mass (kg) of the particles more than one spacing in front of the front face (z = 0) and
+    /// behind the rear face (z = −thickness): concrete spalled off the entry face and scabbed
+    /// off the rear one. Zero without a target.
+    pub fn ejecta(&self) -> [f64; 2] {
+        let Some(t) = &self.scene.target else {
+            return [0.0; 2];
+        };
+        let p = &self.particles;
+        let mut out = [0.0; 2];
+        for (&z, &m) in p.z.iter().zip(&p.mass) {
+            let z = f64::from(z);
+            if z > t.spacing {
+                out[0] += f64::from(m);
+            } else if z < -t.thickness - t.spacing {
+                out[1] += f64::from(m);
+            }
+        }
+        out
+    }
+
     /// Largest speed of a particle or node (m/s).
     pub fn max_speed(&self) -> f64 {
         self.fastest().speed as f64

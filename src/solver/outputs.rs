@@ -137,6 +137,7 @@ impl Model {
     ) -> Summary {
         let body = self.body_bounds();
         let a = &self.account;
+        let ejecta = self.ejecta();
         Summary {
             scene: self.scene.name.clone(),
             status: status.to_string(),
@@ -186,6 +187,8 @@ impl Model {
             slaves_inside: a.slaves_inside,
             nonfinite_values: self.nonfinite_values(),
             particles_at_density_floor: self.particles_at_density_floor(),
+            front_ejecta_kg: ejecta[0],
+            rear_ejecta_kg: ejecta[1],
             max_speed_m_s: self.max_speed(),
             max_residual_penetration_m: a.max_residual_penetration as f64,
             neighbour_list_builds: stepper.builds().unwrap_or(0),

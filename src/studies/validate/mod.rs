@@ -27,6 +27,7 @@ mod report;
 mod shell;
 mod solid;
 mod taylor;
+mod tension;
 
 use std::fmt;
 use std::path::PathBuf;
@@ -51,10 +52,11 @@ pub enum Section {
     Deformation,
     Shell,
     Lining,
+    Tension,
 }
 
 impl Section {
-    pub const ALL: [Section; 9] = [
+    pub const ALL: [Section; 10] = [
         Section::Taylor,
         Section::Forrestal,
         Section::Crh3Rods,
@@ -64,6 +66,7 @@ impl Section {
         Section::Deformation,
         Section::Shell,
         Section::Lining,
+        Section::Tension,
     ];
 
     /// The name `--only` takes, also the section's folder under the output directory.
@@ -78,6 +81,7 @@ impl Section {
             Section::Deformation => "deformation",
             Section::Shell => "shell",
             Section::Lining => "nose-lining",
+            Section::Tension => "tension",
         }
     }
 
@@ -93,6 +97,7 @@ impl Section {
             Section::Deformation => "Plastic deformation against striking speed (paper Fig. 4)",
             Section::Shell => "Shell projectile: critical velocity and damage (paper Fig. 6, 7, 9)",
             Section::Lining => "Concrete lining the nose: CRH 2 against CRH 6",
+            Section::Tension => "Concrete in tension: the crack band and a free-backed slab",
         }
     }
 
@@ -119,6 +124,11 @@ impl Section {
             Section::Lining => {
                 "none measured: a reading of the solver's own fields (the kernel cut at the \
                  projectile), for the nose-shape question"
+            }
+            Section::Tension => {
+                "none measured: the fracture energy G_f (fib Model Code 2010) the crack band must \
+                 spend, and a perforation of the geometry of Hanchak et al. (1992) without its \
+                 measured residual velocity"
             }
         }
     }
@@ -360,6 +370,8 @@ pub fn estimate_runs(opts: &Options) -> Result<usize, ValidateError> {
             }
             // Stepped in process to read the model, not through the run folders.
             Section::Lining => 0,
+            // Two tension models at two resolutions.
+            Section::Tension => 4,
         })
         .sum())
 }
@@ -440,6 +452,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
             Section::Deformation => solid::deformation(&mut ctx)?,
             Section::Shell => shell::run(&mut ctx)?,
             Section::Lining => lining::run(&mut ctx)?,
+            Section::Tension => tension::run(&mut ctx)?,
         };
         parts.push((s, out));
     }
