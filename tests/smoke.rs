@@ -44,7 +44,7 @@ fn a_projectile_perforates_a_free_backed_slab() {
     let outcome = common::run_cpu(&scene, &out, false);
     let s = &outcome.summary;
     assert!(outcome.ok, "status: {}", s.status);
-    assert_eq!(s.stop_reason, "projectile left the target (perforation)");
+    assert_eq!(s.stop_reason, penetrate::output::summary::PERFORATED);
     assert!(s.time_s < scene.run.end_time, "stopped at {} s", s.time_s);
     let striking = scene.projectile.velocity;
     assert!(

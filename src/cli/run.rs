@@ -111,7 +111,15 @@ pub fn run(args: RunArgs) -> ExitCode {
                     "the CPU"
                 }
             );
-            if scene.target.is_some() {
+            if scene.target.is_some() && s.stop_reason == crate::output::summary::PERFORATED {
+                say!(
+                    "perforated: residual velocity {} m/s; concrete off the rear face {} kg, \
+                     off the front face {} kg",
+                    fixed(s.projectile_velocity_m_s, 1),
+                    fixed(s.rear_ejecta_kg, 3),
+                    fixed(s.front_ejecta_kg, 3)
+                );
+            } else if scene.target.is_some() {
                 say!(
                     "depth {} m, projectile velocity {} m/s",
                     fixed(s.depth_m, 4),

@@ -41,6 +41,10 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 /// The stop reason of a run that reached its end time (`Summary::stop_reason`).
 pub const END_TIME_REACHED: &str = "end time reached";
 
+/// The stop reason of a run whose projectile went through the target: all of it is behind
+/// the rear face.
+pub const PERFORATED: &str = "projectile left the target (perforation)";
+
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Summary {
     pub scene: String,

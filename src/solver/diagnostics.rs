@@ -134,7 +134,7 @@ impl Model {
                     .copied()
                     .fold(f32::MIN, f32::max) as f64;
                 if z_max < -t.thickness {
-                    return Some("projectile left the target (perforation)");
+                    return Some(crate::output::summary::PERFORATED);
                 }
             }
         }

@@ -132,7 +132,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     for (k, rec) in records.iter().enumerate() {
         let (model, f) = (MODELS[k / factors.len()], factors[k % factors.len()]);
         let s = rec.completed();
-        let through = s.map(|s| s.stop_reason.contains("perforation"));
+        let through = s.map(|s| s.stop_reason == crate::output::summary::PERFORATED);
         if model == "crack-band" {
             perforated = perforated.zip(through).map(|(a, b)| a && b);
         }
