@@ -43,7 +43,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     let mut point_rows = Vec::new();
     let mut csv_rows = Vec::new();
     let mut opening_error: Option<f64> = Some(0.0);
-    let t_d = crate::materials::hjc::tensile_strength(&c, Tension::CrackBand { band: 1.0 }, RATE);
+    let t_d = c.t * crate::materials::hjc::tensile_rate_factor(RATE);
     let k_el = c.p_crush / c.mu_crush;
     for (path, rates) in paths {
         for model in MODELS {
@@ -154,6 +154,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             or_dash(s, |s| s.front_ejecta_kg.to_string()),
             or_dash(s, |s| s.rear_ejecta_kg.to_string()),
             or_dash(s, |s| s.energy_error.to_string()),
+            rec.status().to_string(),
             ctx.rel(&rec.dir),
         ]);
     }
@@ -168,6 +169,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             "front_ejecta_kg",
             "rear_ejecta_kg",
             "energy_error",
+            "status",
             "dir",
         ],
         &slab_csv,
