@@ -89,11 +89,15 @@ pub struct CorrectionStats {
 
 /// Apply every hit in order (the caller passes them sorted by slave index). `on_nose[k]` says
 /// whether master `k` is on the nose: its hits' impulse is booked in `nose_impulse_z` too.
-/// `friction` is the Coulomb coefficient μ of the sliding surface (0: frictionless).
+/// `normal_impulse[k]` gains the normal impulse m_S δ of master `k`'s closing hits (N s; the
+/// load on its ring: the pressure on the nose, physics.md §4). `friction` is the Coulomb
+/// coefficient μ of the sliding surface (0: frictionless).
+#[allow(clippy::too_many_arguments)]
 pub fn correct(
     hits: &[Hit],
     masters: &[MasterSegment],
     on_nose: &[bool],
+    normal_impulse: &mut [f64],
     b: &mut ContactBodies,
     lambda: f32,
     friction: f32,
@@ -146,6 +150,7 @@ pub fn correct(
         stats.closing += 1;
         let delta = closing / touch.denominator(&g, n[1]);
         touch.kick(b, &mut g, &mut stats, n, delta);
+        normal_impulse[hit.master as usize] += touch.m_s as f64 * delta as f64;
 
         // Coulomb friction: the tangential jump that would stop the sliding, at most μ times
         // the normal one (physics.md §4, Coulomb friction). Skipped at μ = 0 so that the
@@ -410,6 +415,7 @@ mod tests {
             }],
             &[SEG],
             &[true],
+            &mut [0.0],
             &mut s.bodies(),
             lambda,
             friction,
@@ -441,6 +447,7 @@ mod tests {
             let m = s.total_mass();
             // The segment counts as the nose for two of the four λ, as the shank for the others.
             let on_nose = lambda < 0.4;
+            let mut normal_impulse = [0.0];
             let stats = correct(
                 &[Hit {
                     slave: 0,
@@ -448,6 +455,7 @@ mod tests {
                 }],
                 &[SEG],
                 &[on_nose],
+                &mut normal_impulse,
                 &mut s.bodies(),
                 lambda,
                 0.0,
@@ -502,6 +510,15 @@ mod tests {
             assert_eq!(
                 stats.nose_impulse_z, nose,
                 "λ {lambda}: on the nose: {on_nose}"
+            );
+            // The segment's normal load is the slave's whole momentum change (frictionless:
+            // the jump is along the normal).
+            let jump = (s.svr[0] - before.svr[0]).hypot(s.svz[0] - before.svz[0]);
+            let slave_dp = s.sm[0] as f64 * jump as f64;
+            assert!(
+                (normal_impulse[0] - slave_dp).abs() < 1e-5 * slave_dp,
+                "λ {lambda}: normal impulse {} against the slave's {slave_dp}",
+                normal_impulse[0]
             );
         }
     }

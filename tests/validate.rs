@@ -156,14 +156,25 @@ fn quick_validation_writes_every_section() {
     assert!(lining
         .iter()
         .all(|l| l.iter().all(|f| f.parse::<f64>().is_ok_and(f64::is_finite))));
+    // The contact's pressure on both noses' bands, against a positive law.
+    let load = csv_rows(&out.join("nose-lining/nose-pressure.csv"));
+    for crh in ["2", "6"] {
+        let rows: Vec<_> = load.iter().filter(|l| &l[0] == crh).collect();
+        assert_eq!(rows.len(), 6, "{load:?}");
+        assert!(
+            rows.iter()
+                .any(|l| l[4].parse::<f64>().is_ok_and(|p| p > 0.0)),
+            "{load:?}"
+        );
+    }
     // Two paths, two models, three bands of material points.
     assert_eq!(csv_rows(&out.join("tension/material-points.csv")).len(), 12);
     let mut found = Vec::new();
     pngs(&out, &mut found);
-    // At least these 19: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
-    // history, three deformation, five shell, three nose-lining (a quick run writes 22: a
+    // At least these 20: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
+    // history, three deformation, five shell, four nose-lining (a quick run writes 23: a
     // second Forrestal and CRH 3 rods plot, a sixth shell one).
-    assert!(found.len() >= 19, "{found:?}");
+    assert!(found.len() >= 20, "{found:?}");
     for png in &found {
         let bytes = std::fs::read(png).unwrap();
         assert!(

@@ -88,6 +88,7 @@ impl Model {
         sim.account.initial_kinetic = sim.kinetic_energy();
         sim.account.initial_momentum = sim.momentum_z();
         sim.account.min_dt = f64::MAX;
+        sim.account.segment_impulse = vec![0.0; sim.projectile.masters.len()];
         Ok(sim)
     }
 
@@ -120,7 +121,7 @@ impl Simulation {
         };
         let step =
             GpuStep::new(gpu, &setup).map_err(|error| RunError::Gpu { error, when: None })?;
-        let base = m.account;
+        let base = m.account.clone();
         m.adapter = adapter;
         self.stepper = Box::new(GpuStepper {
             step: Box::new(step),

@@ -45,7 +45,7 @@ use crate::state::{Elements, Nodes, Particles};
 
 /// The format's version: raised whenever the payload changes, so that an older file is
 /// refused by name rather than misread.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 
 const MAGIC: [u8; 8] = *b"PENETRST";
 
@@ -361,7 +361,7 @@ impl Restart {
         // Which side set Δt is not stored; the state it was taken from is.
         model.least_steps();
         model.last_hits = s.last_hits;
-        model.account = s.account;
+        model.account = std::mem::take(&mut s.account);
         // The grid of the positions as they stand, as the last step left it.
         if let Some(sph) = &model.sph {
             let p = &model.particles;

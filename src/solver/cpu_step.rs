@@ -277,6 +277,7 @@ pub(super) fn correct_contact(
         hits,
         masters,
         on_nose,
+        &mut account.segment_impulse,
         &mut bodies,
         law.lambda as f32,
         law.friction as f32,

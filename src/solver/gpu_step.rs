@@ -27,7 +27,7 @@ impl Stepper for GpuStepper {
                 error,
                 when: Some(sim.when()),
             })?;
-        let base = self.base;
+        let base = &self.base;
         sim.account.boundary_impulse = base.boundary_impulse + t.boundary_impulse;
         sim.account.wall_dissipated = base.wall_dissipated + t.wall_lost;
         sim.account.plastic_work = base.plastic_work + t.plastic_work;

@@ -59,7 +59,7 @@ pub trait Stepper {
 }
 
 /// Running energy and impulse account (f64).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Account {
     pub initial_kinetic: f64,
     pub initial_momentum: f64,
@@ -71,6 +71,9 @@ pub struct Account {
     pub contact_impulse: f64,
     /// The part of `contact_impulse` given through the nose's master segments (N s).
     pub nose_impulse: f64,
+    /// Per master segment, the normal impulse its closing hits gave it (N s): the load on its
+    /// ring, whose rate over the ring's area is the contact pressure there.
+    pub segment_impulse: Vec<f64>,
     pub plastic_work: f64,
     /// Deepest slave penetration the contact found (before correcting it), m.
     pub max_penetration: f32,

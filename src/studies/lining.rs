@@ -36,14 +36,7 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
     };
     let h = sph.h;
     let n = &model.projectile.nodes;
-    let nose: Vec<_> = model
-        .projectile
-        .masters
-        .iter()
-        .zip(model.on_nose())
-        .filter(|(_, &on)| on)
-        .map(|(m, _)| (m.a as usize, m.b as usize))
-        .collect();
+    let nose: Vec<_> = nose_masters(model).map(|(_, a, b)| (a, b)).collect();
     if nose.is_empty() {
         return vec![];
     }
@@ -128,7 +121,10 @@ pub fn study(scene: &Scene, times: &[f64], band: f32) -> Result<Vec<Snapshot>, R
         out.push(Snapshot {
             time: model.time,
             depth: -tip as f64,
+            speed: -model.projectile_velocity(),
+            nose_impulse: model.account.nose_impulse,
             lining: lining(model, band),
+            nose: nose_segments(model),
         });
     }
     Ok(out)
@@ -140,7 +136,121 @@ pub struct Snapshot {
     pub time: f64,
     /// The nose tip's depth below the target's face (m).
     pub depth: f64,
+    /// The projectile's speed into the target (m/s).
+    pub speed: f64,
+    /// The axial impulse the contact gave the nose since the run began (N s).
+    pub nose_impulse: f64,
     pub lining: Vec<Lining>,
+    /// The nose's master segments, tip first.
+    pub nose: Vec<NoseSegment>,
+}
+
+/// One master segment of the nose at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NoseSegment {
+    /// Its midpoint's radius over the shank radius a.
+    pub radius_ratio: f32,
+    /// Its ring's area 2π r̄ l (m²).
+    pub ring_area: f64,
+    /// Its ring's area projected on the axis, 2π r̄ |Δr| (m²).
+    pub frontal_area: f64,
+    /// The axial part of its outward normal, |n_z|.
+    pub normal_z: f64,
+    /// The normal impulse the contact gave it since the run began (N s).
+    pub impulse: f64,
+}
+
+/// The nose's master segments of `model`: (master index, node a, node b).
+fn nose_masters(model: &Model) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+    let masters = &model.projectile.masters;
+    (0..masters.len())
+        .filter(|&k| model.on_nose()[k])
+        .map(|k| (k, masters[k].a as usize, masters[k].b as usize))
+}
+
+/// The nose's master segments of `model`, tip first, with their impulses so far.
+pub fn nose_segments(model: &Model) -> Vec<NoseSegment> {
+    let n = &model.projectile.nodes;
+    let shank_radius = nose_masters(model)
+        .flat_map(|(_, a, b)| [a, b])
+        .map(|i| n.r[i])
+        .fold(0.0f32, f32::max);
+    let mut segments: Vec<(f32, NoseSegment)> = nose_masters(model)
+        .map(|(k, a, b)| {
+            let (dr, dz) = ((n.r[b] - n.r[a]) as f64, (n.z[b] - n.z[a]) as f64);
+            let length = dr.hypot(dz);
+            let mid_r = 0.5 * (n.r[a] + n.r[b]) as f64;
+            let ring = 2.0 * std::f64::consts::PI * mid_r;
+            let segment = NoseSegment {
+                radius_ratio: (mid_r / shank_radius as f64) as f32,
+                ring_area: ring * length,
+                frontal_area: ring * dr.abs(),
+                normal_z: if length > 0.0 { dr.abs() / length } else { 0.0 },
+                impulse: model.account.segment_impulse[k],
+            };
+            (0.5 * (n.z[a] + n.z[b]), segment)
+        })
+        .collect();
+    segments.sort_by(|x, y| x.0.total_cmp(&y.0));
+    segments.into_iter().map(|(_, s)| s).collect()
+}
+
+/// The contact's mean normal pressure on a band of the nose between two instants, against a
+/// local law's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BandPressure {
+    /// The band, lo ≤ r̄/a < hi (the last band's hi included).
+    pub lo: f32,
+    pub hi: f32,
+    /// The band's share of the shank's cross-section πa².
+    pub share: f64,
+    /// Its segments' normal impulse over their rings' area and the time between (Pa).
+    pub pressure: f64,
+    /// The law's normal stress at the mean speed, averaged over the same rings' area (Pa).
+    pub law: f64,
+}
+
+/// The contact pressure on each band of the nose between `from` and `to` (the same run), bands
+/// by r̄/a between consecutive `edges`; `law(|n_z|, V)` is a local law's normal stress on a
+/// segment whose normal has axial part n_z at speed V, evaluated at the two instants' mean speed.
+pub fn band_pressures(
+    from: &Snapshot,
+    to: &Snapshot,
+    edges: &[f32],
+    law: &dyn Fn(f64, f64) -> f64,
+) -> Vec<BandPressure> {
+    let window = to.time - from.time;
+    let speed = 0.5 * (from.speed + to.speed);
+    let cross_section: f64 = to.nose.iter().map(|s| s.frontal_area).sum();
+    edges
+        .windows(2)
+        .enumerate()
+        .map(|(k, e)| {
+            let last = k + 2 == edges.len();
+            let inside = |s: &&(&NoseSegment, &NoseSegment)| {
+                let x = s.1.radius_ratio;
+                x >= e[0] && (x < e[1] || (last && x <= e[1]))
+            };
+            let pairs: Vec<_> = from.nose.iter().zip(&to.nose).collect();
+            let band: Vec<_> = pairs.iter().filter(inside).collect();
+            let area: f64 = band.iter().map(|(_, s)| s.ring_area).sum();
+            let impulse: f64 = band.iter().map(|(a, b)| b.impulse - a.impulse).sum();
+            let law_area: f64 = band
+                .iter()
+                .map(|(_, s)| law(s.normal_z, speed) * s.ring_area)
+                .sum();
+            let frontal: f64 = band.iter().map(|(_, s)| s.frontal_area).sum();
+            let per_area = |x: f64| if area > 0.0 { x / area } else { f64::NAN };
+            BandPressure {
+                lo: e[0],
+                hi: e[1],
+                // (+ 0.0: an empty band's sum is −0.0.)
+                share: frontal / cross_section + 0.0,
+                pressure: per_area(impulse / window),
+                law: per_area(law_area),
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -215,5 +325,58 @@ mod tests {
         }
         let tip = s.lining.iter().filter(|l| l.along < 0.2);
         assert!(tip.clone().count() > 0 && tip.clone().all(|l| l.normal_velocity > 0.0));
+    }
+
+    /// The segments' normal impulses are the contact's: their axial parts add up to the nose's
+    /// axial impulse (frictionless, so the hits push along the normals), and the bands' pressures
+    /// over their areas and the window give the segments' impulse back. The law's band value is
+    /// its own average.
+    #[test]
+    fn the_bands_carry_the_nose_impulse() {
+        let snapshots = study(&coarse(&[]), &[1.0e-4, 1.5e-4], 1.0).unwrap();
+        let (from, to) = (&snapshots[0], &snapshots[1]);
+        assert!(!to.nose.is_empty() && to.nose.len() == from.nose.len());
+        let axial: f64 = from
+            .nose
+            .iter()
+            .zip(&to.nose)
+            .map(|(a, b)| (b.impulse - a.impulse) * b.normal_z)
+            .sum();
+        let nose = to.nose_impulse - from.nose_impulse;
+        assert!(nose > 0.0, "{nose}");
+        // The normals turn a little as the nose deforms between the hits and the reading.
+        assert!((axial / nose - 1.0).abs() < 0.01, "{axial} against {nose}");
+        let edges = [0.0, 0.3, 0.6, 1.0];
+        let bands = band_pressures(from, to, &edges, &|_, v| 1e6 * v);
+        let window = to.time - from.time;
+        let total: f64 = from
+            .nose
+            .iter()
+            .zip(&to.nose)
+            .map(|(a, b)| b.impulse - a.impulse)
+            .sum();
+        let mut from_bands = 0.0;
+        for (k, b) in bands.iter().enumerate() {
+            let area: f64 = to
+                .nose
+                .iter()
+                .filter(|s| s.radius_ratio >= b.lo && (s.radius_ratio < b.hi || k == 2))
+                .map(|s| s.ring_area)
+                .sum();
+            if area == 0.0 {
+                // No segment's midpoint in the band (a long tip segment).
+                assert!(b.pressure.is_nan() && b.share == 0.0, "{b:?}");
+                continue;
+            }
+            from_bands += b.pressure * area * window;
+            let speed = 0.5 * (from.speed + to.speed);
+            assert!((b.law / (1e6 * speed) - 1.0).abs() < 1e-9, "{b:?}");
+        }
+        assert!(
+            (from_bands / total - 1.0).abs() < 1e-9,
+            "{from_bands} against {total}"
+        );
+        let shares: f64 = bands.iter().map(|b| b.share).sum();
+        assert!((shares - 1.0).abs() < 1e-9, "{shares}");
     }
 }

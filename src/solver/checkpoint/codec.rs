@@ -240,6 +240,7 @@ record!(Account {
     boundary_impulse,
     contact_impulse,
     nose_impulse,
+    segment_impulse,
     plastic_work,
     max_penetration,
     slaves_inside,

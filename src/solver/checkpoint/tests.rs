@@ -72,6 +72,11 @@ fn a_checkpoint_round_trips_and_steps_on_identically() {
         a.account.contact_impulse.to_bits(),
         b.account.contact_impulse.to_bits()
     );
+    let bits64 = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits64(&a.account.segment_impulse),
+        bits64(&b.account.segment_impulse)
+    );
 }
 
 /// A file cut short, of another kind or version, or changed after it was written is

@@ -4,9 +4,10 @@
 //! under-reads a slender nose's compaction; no accuracy target.
 
 use crate::output::plot::{Chart, Mark};
-use crate::studies::lining::{study, Lining, Snapshot};
+use crate::studies::lining::{band_pressures, study, BandPressure, Lining, Snapshot};
 
 use super::context::Context;
+use super::forrestal;
 use super::report::{or_dash, table, SectionOut};
 use super::{Section, ValidateError};
 
@@ -16,6 +17,8 @@ const NOSES: [f64; 2] = [2.0, 6.0];
 const BAND: f32 = 1.0;
 /// Bins along the nose, tip to shoulder.
 const BINS: usize = 5;
+/// Bands of the nose by r/a for its contact pressure; the first is the axis band.
+const BANDS: [f32; 7] = [0.0, 0.3, 0.5, 0.7, 0.8, 0.9, 1.0];
 
 pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     let section = Section::Lining;
@@ -27,10 +30,25 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
         &[3.5e-4, 4.0e-4, 4.5e-4, 5.0e-4]
     };
     let mut readings = Vec::new();
+    let mut loads = Vec::new();
     for (k, &crh) in NOSES.iter().enumerate() {
         let mut overrides = ctx.settings.forrestal.clone();
         overrides.push(format!("projectile.crh={crh}"));
         let scene = ctx.scene("forrestal1994-277.toml", &overrides)?;
+        let (fc, density) = scene.target.as_ref().map_or((0.0, 0.0), |t| {
+            (t.concrete.fc as f64, t.concrete.density as f64)
+        });
+        // The local law behind Forrestal's equation (physics.md §8): S f_c + ρ (V n_z)².
+        let strength = forrestal::Inputs {
+            mass: 0.0,
+            shank_radius: 0.0,
+            crh,
+            density,
+            fc,
+        }
+        .strength_factor()
+            * fc;
+        let law = move |n_z: f64, v: f64| strength + density * (v * n_z).powi(2);
         let started = std::time::Instant::now();
         let snapshots = study(&scene, times, BAND)
             .map_err(|e| ValidateError::Input(format!("{}: CRH {crh}: {e}", section.name())))?;
@@ -42,6 +60,9 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             snapshots.len(),
             started.elapsed().as_secs_f64()
         ));
+        if let (Some(first), Some(last)) = (snapshots.first(), snapshots.last()) {
+            loads.push((crh, band_pressures(first, last, &BANDS, &law)));
+        }
         readings.push((crh, snapshots));
     }
     let mut rows = Vec::new();
@@ -192,6 +213,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     md += &completeness;
     md += &rate;
     md += &pressure;
+    md += &nose_load(ctx, section, times, &loads)?;
     Ok(SectionOut {
         markdown: md,
         checks: vec![],
@@ -245,4 +267,101 @@ fn bins(snapshots: &[Snapshot]) -> Vec<Bin> {
             }
         })
         .collect()
+}
+
+/// The contact's normal pressure on the nose by bands of r/a over the window between the first
+/// and last instants, against the local law behind Forrestal's equation: the axis band is where
+/// a near-axis overload shows.
+fn nose_load(
+    ctx: &mut Context,
+    section: Section,
+    times: &[f64],
+    loads: &[(f64, Vec<BandPressure>)],
+) -> Result<String, ValidateError> {
+    let mut rows = Vec::new();
+    let mut table_rows = Vec::new();
+    for (crh, bands) in loads {
+        for b in bands {
+            rows.push(vec![
+                crh.to_string(),
+                b.lo.to_string(),
+                b.hi.to_string(),
+                b.share.to_string(),
+                b.pressure.to_string(),
+                b.law.to_string(),
+            ]);
+            let finite = |x: f64| x.is_finite().then_some(x);
+            table_rows.push(vec![
+                format!("{crh}"),
+                format!("{:.1}–{:.1}", b.lo, b.hi),
+                format!("{:.2}", b.share),
+                or_dash(finite(b.pressure), |p| format!("{:.0}", p * 1e-6)),
+                or_dash(finite(b.law), |p| format!("{:.0}", p * 1e-6)),
+                or_dash(finite(b.pressure / b.law), |x| format!("{x:.2}")),
+            ]);
+        }
+    }
+    let csv = ctx.csv(
+        section,
+        "nose-pressure.csv",
+        &[
+            "crh",
+            "r_over_a_from",
+            "r_over_a_to",
+            "share_of_cross_section",
+            "pressure_pa",
+            "law_pa",
+        ],
+        &rows,
+    )?;
+    let chart = loads.iter().fold(
+        Chart::new(
+            "Contact pressure on the nose by radius, against the local law",
+            "r/a (band centre)",
+            "normal pressure (MPa)",
+        ),
+        |c, (crh, bands)| {
+            let of = |f: &dyn Fn(&BandPressure) -> f64| {
+                bands
+                    .iter()
+                    .filter(|b| f(b).is_finite())
+                    .map(|b| (0.5 * (b.lo + b.hi) as f64, f(b) * 1e-6))
+                    .collect()
+            };
+            c.series(
+                &format!("CRH {crh}, simulated"),
+                of(&|b| b.pressure),
+                Mark::LinePoints,
+            )
+            .series(
+                &format!("CRH {crh}, S f_c + ρ(V n_z)²"),
+                of(&|b| b.law),
+                Mark::Line,
+            )
+        },
+    );
+    let plot = ctx.plot(section, "nose-pressure.png", &chart)?;
+    let mut md = format!(
+        "\n**Contact pressure on the nose** between t = {} and {} ms: each band's master segments' \
+         normal impulse (the λ correction's m_S δ, summed over the window) over their rings' area \
+         2π r̄ l and the window, against the local law behind Forrestal's equation, \
+         `σ_n = S f_c + ρ (V n_z)²` (S = 82.6 f_c^−0.544, V the window's mean speed, n_z the \
+         segment normal's axial part), averaged over the same area. `share` is the band's part \
+         of πa². Raw data: {csv}.\n\n",
+        times.first().map_or(0.0, |t| t * 1e3),
+        times.last().map_or(0.0, |t| t * 1e3),
+    );
+    md += &table(
+        &[
+            "CRH",
+            "r/a",
+            "share",
+            "simulated (MPa)",
+            "law (MPa)",
+            "ratio",
+        ],
+        &table_rows,
+    );
+    md += &plot;
+    Ok(md)
 }
