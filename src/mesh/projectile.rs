@@ -1,20 +1,24 @@
 //! Projectile meshers: a tangent-ogive penetrator (optionally with a filled cavity) and a
 //! flat-ended cylinder (Taylor bar), as linear axisymmetric triangles (physics.md §2).
 //!
-//! Both meshes are one structured block of quads. Rows run from the lowest outline (the nose
-//! curve, or the impact face of a cylinder) to the tail face; columns run from the axis
-//! (column 0, r = 0.0 exactly) to the outer surface. Every quad gets a centre node and is split
-//! into four triangles, one per quad edge: the crossed-triangle pattern that keeps constant-strain
-//! triangles from locking volumetrically in plastic flow (physics.md §2).
+//! Both meshes are made of cells, each split into triangles around a centre node, one per cell
+//! edge: the crossed-triangle pattern that keeps constant-strain triangles from locking
+//! volumetrically in plastic flow (physics.md §2). A cylinder and an ogive's shank are one
+//! structured block of quads; rows run toward the tail face, columns from the axis (column 0,
+//! r = 0.0 exactly) to the outer surface.
 //!
-//! The ogive nose is a transfinite (Coons) patch on the curved triangle axis / junction line /
-//! ogive arc: the arc is split at a point M into two sides of the patch, so no cell collapses at
-//! the tip and the spacing along the arc equals the element size. M is a straight (180°) corner
-//! of the patch, which squashes the cells near it; Winslow smoothing and a local max-min
-//! optimisation of the smallest altitude (which sets the stable time step) repair them.
+//! The ogive nose is meshed in layers between straight lines from the axis to the arc, one
+//! element apart along both. A line carries as many cells as its length holds elements, so the
+//! count falls from the shank's columns toward the tip; where it falls, a cell of the layer is a
+//! pentagon (two edges below, one above), split into five triangles around its centre. The last
+//! line has two edges and closes at the tip in one kite. A structured block with the shank's
+//! columns all the way to the tip squeezed them into slivers a quarter of an element high, and
+//! the smallest altitude sets the stable step of the whole coupled run (physics.md §2, §5).
+//! Laplace smoothing and a local max-min optimisation of the smallest altitude place the nose's
+//! interior nodes.
 //!
-//! Longer than most files (about 820 lines) because the two layouts, the smoothing and the
-//! assembly into triangles and master segments share one block structure; its tests live in
+//! Longer than most files (about 800 lines) because the two layouts, the smoothing and the
+//! assembly into triangles and master segments share one cell structure; its tests live in
 //! `projectile/tests.rs`.
 
 use std::collections::HashMap;
@@ -68,17 +72,18 @@ pub fn estimate_counts(spec: &ProjectileSpec) -> (usize, usize) {
             spec.cavity.as_ref(),
             spec.nose_z,
         )
-        .map(|l| l.topology().counts())
+        .map(|l| l.cells().counts())
         .unwrap_or((0, 0)),
         ProjectileShape::Cylinder => {
             cylinder_layout(spec.diameter, spec.length, spec.element_size, spec.nose_z)
                 .map(|(cols, rows)| {
-                    Topology {
-                        cells_z: rows.len() - 1,
-                        cells_r: cols.len() - 1,
-                        hole: None,
-                    }
-                    .counts()
+                    let rows: Vec<Vec<(f64, f64)>> = rows
+                        .iter()
+                        .map(|&z| cols.iter().map(|&r| (r, z)).collect())
+                        .collect();
+                    let mut mesh = CellMesh::default();
+                    mesh.push_block(&rows, None, &[]);
+                    mesh.counts()
                 })
                 .unwrap_or((0, 0))
         }
@@ -113,12 +118,13 @@ pub fn ogive(
 ) -> Result<ProjectileMesh, MeshError> {
     positive("density", density)?;
     let layout = ogive_layout(diameter, length, crh, element_size, cavity, nose_z)?;
-    let rows = layout.corner_rows();
+    let mut mesh = layout.cells();
+    mesh.smooth();
     let filler = match (cavity, layout.cavity) {
         (Some(spec), Some((rc, len))) => spec.filler_density * PI * rc * rc * len,
         _ => 0.0,
     };
-    assemble(&rows, layout.topology(), density, filler)
+    assemble(&mesh, density, filler)
 }
 
 /// Flat-ended solid cylinder (Taylor bar) of radius a = diameter/2 occupying
@@ -138,12 +144,9 @@ pub fn cylinder(
         .iter()
         .map(|&z| cols.iter().map(|&r| (r, z)).collect())
         .collect();
-    let topology = Topology {
-        cells_z: rows_z.len() - 1,
-        cells_r: cols.len() - 1,
-        hole: None,
-    };
-    assemble(&rows, topology, density, 0.0)
+    let mut mesh = CellMesh::default();
+    mesh.push_block(&rows, None, &[]);
+    assemble(&mesh, density, 0.0)
 }
 
 fn positive(name: &str, value: f64) -> Result<(), MeshError> {
@@ -211,51 +214,203 @@ struct Hole {
     cols: usize,
 }
 
-/// A structured block of `cells_z × cells_r` quads, less an optional hole on the axis.
-#[derive(Clone, Copy, Debug)]
-struct Topology {
-    cells_z: usize,
-    cells_r: usize,
-    hole: Option<Hole>,
+/// Corners and counter-clockwise polygonal cells (quads, and pentagons where the nose's cell
+/// count falls), before each cell is split into triangles around its centre; `free` marks the
+/// corners that smoothing may move (inside the nose, off every boundary).
+#[derive(Debug, Default)]
+struct CellMesh {
+    corners: Vec<(f64, f64)>,
+    cells: Vec<Vec<u32>>,
+    free: Vec<bool>,
 }
 
-impl Topology {
-    fn cell_active(&self, g: usize, i: usize) -> bool {
-        if g >= self.cells_z || i >= self.cells_r {
-            return false;
-        }
-        match self.hole {
-            Some(h) => !(g >= h.first_row && g < h.end_row && i < h.cols),
-            None => true,
-        }
+impl CellMesh {
+    fn corner(&mut self, p: (f64, f64), free: bool) -> u32 {
+        self.corners.push(p);
+        self.free.push(free);
+        (self.corners.len() - 1) as u32
     }
 
-    /// A corner node exists when one of its (up to four) cells does.
-    fn corner_used(&self, g: usize, i: usize) -> bool {
-        let below = g.checked_sub(1);
-        let left = i.checked_sub(1);
-        let cell = |gg: Option<usize>, ii: Option<usize>| match (gg, ii) {
-            (Some(gg), Some(ii)) => self.cell_active(gg, ii),
-            _ => false,
+    /// Appends the structured block of corner rows `rows[g][i]` (z rising with g, column 0 on
+    /// the axis) less `hole`; row 0 reuses the corners `first` where given (the nose's junction
+    /// line).
+    fn push_block(&mut self, rows: &[Vec<(f64, f64)>], hole: Option<Hole>, first: &[u32]) {
+        let (cells_z, cells_r) = (rows.len() - 1, rows[0].len() - 1);
+        let active = |g: usize, i: usize| {
+            g < cells_z
+                && i < cells_r
+                && !hole.is_some_and(|h| g >= h.first_row && g < h.end_row && i < h.cols)
         };
-        cell(Some(g), Some(i)) || cell(Some(g), left) || cell(below, Some(i)) || cell(below, left)
-    }
-
-    /// (nodes, elements).
-    fn counts(&self) -> (usize, usize) {
-        let mut nodes = 0;
-        let mut cells = 0;
-        for g in 0..=self.cells_z {
-            for i in 0..=self.cells_r {
-                nodes += usize::from(self.corner_used(g, i));
-                cells += usize::from(self.cell_active(g, i));
+        // A corner exists when one of its (up to four) cells does.
+        let used = |g: usize, i: usize| {
+            let (below, left) = (g.checked_sub(1), i.checked_sub(1));
+            active(g, i)
+                || left.is_some_and(|l| active(g, l))
+                || below.is_some_and(|b| active(b, i))
+                || below.zip(left).is_some_and(|(b, l)| active(b, l))
+        };
+        let mut index = vec![vec![u32::MAX; cells_r + 1]; cells_z + 1];
+        for (g, row) in rows.iter().enumerate() {
+            for (i, &p) in row.iter().enumerate() {
+                if g == 0 && !first.is_empty() {
+                    index[g][i] = first[i];
+                } else if used(g, i) {
+                    index[g][i] = self.corner(p, false);
+                }
             }
         }
-        (nodes + cells, 4 * cells)
+        for g in 0..cells_z {
+            for i in 0..cells_r {
+                if active(g, i) {
+                    self.cells.push(vec![
+                        index[g][i],
+                        index[g][i + 1],
+                        index[g + 1][i + 1],
+                        index[g + 1][i],
+                    ]);
+                }
+            }
+        }
+    }
+
+    /// (nodes, elements): a node per corner and per cell centre, a triangle per cell edge.
+    fn counts(&self) -> (usize, usize) {
+        (
+            self.corners.len() + self.cells.len(),
+            self.cells.iter().map(Vec::len).sum(),
+        )
+    }
+
+    /// Places the free corners: Laplace smoothing (each the mean of the corners it shares a
+    /// cell edge with), then a local max-min optimisation of the smallest altitude around each
+    /// (Freitag & Ollivier-Gooch 1997), since that altitude sets the stable step of the whole
+    /// projectile (physics.md §2). Gauss–Seidel sweeps in a fixed order: deterministic.
+    fn smooth(&mut self) {
+        let n = self.corners.len();
+        let mut joined: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (c, cell) in self.cells.iter().enumerate() {
+            for k in 0..cell.len() {
+                let (a, b) = (cell[k], cell[(k + 1) % cell.len()]);
+                for (x, y) in [(a, b), (b, a)] {
+                    if !joined[x as usize].contains(&y) {
+                        joined[x as usize].push(y);
+                    }
+                }
+                cells_of[a as usize].push(c);
+            }
+        }
+        let free: Vec<usize> = (0..n).filter(|&k| self.free[k]).collect();
+        if free.is_empty() {
+            return;
+        }
+        let scale = self
+            .corners
+            .iter()
+            .map(|p| p.0.abs().max(p.1.abs()))
+            .fold(0.0, f64::max);
+        for _ in 0..1000 {
+            let mut largest_move: f64 = 0.0;
+            for &k in &free {
+                let m = joined[k].len() as f64;
+                let target = joined[k].iter().fold((0.0, 0.0), |acc, &j| {
+                    let q = self.corners[j as usize];
+                    (acc.0 + q.0 / m, acc.1 + q.1 / m)
+                });
+                let p = &mut self.corners[k];
+                largest_move = largest_move.max((target.0 - p.0).abs().max((target.1 - p.1).abs()));
+                *p = target;
+            }
+            if largest_move <= 1e-12 * scale {
+                break;
+            }
+        }
+
+        let around = |mesh: &CellMesh, k: usize| {
+            cells_of[k]
+                .iter()
+                .map(|&c| {
+                    let corners: Vec<(f64, f64)> = mesh.cells[c]
+                        .iter()
+                        .map(|&j| mesh.corners[j as usize])
+                        .collect();
+                    crossed_min_altitude(&corners)
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        const D: f64 = FRAC_1_SQRT_2;
+        const DIRECTIONS: [(f64, f64); 8] = [
+            (1.0, 0.0),
+            (0.0, 1.0),
+            (-1.0, 0.0),
+            (0.0, -1.0),
+            (D, D),
+            (-D, D),
+            (-D, -D),
+            (D, -D),
+        ];
+        for _ in 0..20 {
+            let mut moved = false;
+            for &k in &free {
+                let p0 = self.corners[k];
+                let size = joined[k]
+                    .iter()
+                    .map(|&j| {
+                        let q = self.corners[j as usize];
+                        (q.0 - p0.0).hypot(q.1 - p0.1)
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                let mut best = around(self, k);
+                let mut step = 0.2 * size;
+                while step > 1e-3 * size {
+                    let base = self.corners[k];
+                    let mut improved = false;
+                    for d in DIRECTIONS {
+                        self.corners[k] = (base.0 + step * d.0, base.1 + step * d.1);
+                        let q = around(self, k);
+                        if q > best * (1.0 + 1e-9) {
+                            best = q;
+                            improved = true;
+                            break;
+                        }
+                        self.corners[k] = base;
+                    }
+                    if improved {
+                        moved = true;
+                    } else {
+                        step *= 0.5;
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
     }
 }
 
-/// Discrete layout of the ogive mesh: everything but the node positions of the nose patch.
+/// Smallest altitude (2A over the longest side) of the triangles a counter-clockwise cell is
+/// split into around its centre (the mean of its corners); negative when one is inverted.
+fn crossed_min_altitude(c: &[(f64, f64)]) -> f64 {
+    let n = c.len() as f64;
+    let mid = c
+        .iter()
+        .fold((0.0, 0.0), |acc, p| (acc.0 + p.0 / n, acc.1 + p.1 / n));
+    (0..c.len())
+        .map(|k| {
+            let (p, q) = (c[k], c[(k + 1) % c.len()]);
+            let twice_area = (q.0 - p.0) * (mid.1 - p.1) - (q.1 - p.1) * (mid.0 - p.0);
+            let longest = [(p, q), (q, mid), (mid, p)]
+                .iter()
+                .map(|(x, y)| (y.0 - x.0).hypot(y.1 - x.1))
+                .fold(0.0, f64::max);
+            twice_area / longest
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Discrete layout of the ogive mesh: everything but the positions of the nose's interior
+/// corners.
 struct OgiveLayout {
     /// Shank radius a.
     a: f64,
@@ -269,9 +424,15 @@ struct OgiveLayout {
     z_j: f64,
     /// Column radii, shared by the junction line and every shank row: r[0] = 0, r[nr] = a.
     cols: Vec<f64>,
-    /// Divisions of the axis and of the arc S→M.
-    n_v: usize,
-    /// Shank row heights from the junction to the tail face.
+    /// Element size asked for.
+    h: f64,
+    /// Divisions of the nose's axis and of its arc, at least 2: evenly spaced but for the one at
+    /// the tip, `tip_divisions` times as long.
+    n_nose: usize,
+    /// Length of the tip's division in the others': 1/sin θ for a tip of half-angle θ, within
+    /// [1, 2], so the tip's kite is wide enough for a fair altitude.
+    tip_divisions: f64,
+    /// Shank row heights from the junction to the tail face; the hole's rows count from it.
     shank_z: Vec<f64>,
     hole: Option<Hole>,
     /// Meshed cavity (radius, length).
@@ -309,7 +470,9 @@ fn ogive_layout(
     let z_tail = nose_z + length;
     let nr = divisions(a, h).max(2);
     let arc = s * phi_tip;
-    let n_v = (((arc / h).round() as usize).saturating_sub(nr)).max(1);
+    // The tip's half-angle is φ_tip, the arc's turn from the junction.
+    let tip_divisions = (1.7 / phi_tip.sin()).clamp(1.0, 3.0);
+    let n_nose = ((arc / h - tip_divisions + 1.0).round() as usize).max(2);
 
     let mut cols = vec![0.0];
     let mut shank_z = vec![z_j];
@@ -372,8 +535,8 @@ fn ogive_layout(
             push_spaced(&mut shank_z, z_c0, z_c1, n_cav);
             push_spaced(&mut shank_z, z_c1, z_tail, n_rear);
             hole = Some(Hole {
-                first_row: n_v + n_front,
-                end_row: n_v + n_front + n_cav,
+                first_row: n_front,
+                end_row: n_front + n_cav,
                 cols: ic,
             });
             meshed_cavity = Some((rc, z_c1 - z_c0));
@@ -386,7 +549,9 @@ fn ogive_layout(
         phi_tip,
         z_j,
         cols,
-        n_v,
+        h,
+        n_nose,
+        tip_divisions,
         shank_z,
         hole,
         cavity: meshed_cavity,
@@ -394,14 +559,6 @@ fn ogive_layout(
 }
 
 impl OgiveLayout {
-    fn topology(&self) -> Topology {
-        Topology {
-            cells_z: self.n_v + self.shank_z.len() - 1,
-            cells_r: self.cols.len() - 1,
-            hole: self.hole,
-        }
-    }
-
     /// Point of the nose arc at angle φ from the junction: r = s cos φ − (s − a) = R(x) with
     /// x = L_n − s sin φ the distance from the tip; the arc length from S is s·φ.
     fn arc(&self, phi: f64) -> (f64, f64) {
@@ -411,272 +568,114 @@ impl OgiveLayout {
         )
     }
 
-    /// Corner positions, row by row from the tip (row 0: the arc T→M) through the junction
-    /// (row n_v) to the tail face, each row from the axis outward.
-    fn corner_rows(&self) -> Vec<Vec<(f64, f64)>> {
+    /// The cells, from the tip to the tail face, with the nose's interior corners where lines
+    /// place them (`CellMesh::smooth` moves them).
+    ///
+    /// Nose line j (0 < j < n) runs straight from the axis at z_j − L_n·j/n to the arc at
+    /// φ_tip·j/n, so the axis and the arc are split evenly; line 0 is the junction row of the
+    /// shank. A line takes as many edges as its length holds elements, never more than the line
+    /// behind it nor fewer than half (each cell of a layer spans one or two edges of the line
+    /// behind), and line n − 1 takes two, the kite at the tip closing it.
+    fn cells(&self) -> CellMesh {
+        let n = self.n_nose;
         let nr = self.cols.len() - 1;
-        let n_v = self.n_v;
-        let phi_m = self.phi_tip * n_v as f64 / (n_v + nr) as f64;
-        let o = (0.0, self.z_j);
-        let sp = (self.a, self.z_j);
-        let t = (0.0, self.z_j - self.nose_len);
-        let m = self.arc(phi_m);
-        // Sides of the patch, v = 0 at the junction and v = 1 at the arc T→M.
-        let bottom = |i: usize| (self.cols[i], self.z_j);
-        let top = |i: usize| {
-            if i == 0 {
-                t
+        let t = |j: usize| j as f64 / (n as f64 - 1.0 + self.tip_divisions);
+        let axis = |j: usize| (0.0, self.z_j - self.nose_len * t(j));
+        let on_arc = |j: usize| self.arc(self.phi_tip * t(j));
+        let mut edges = vec![nr; n];
+        for j in 1..n {
+            let (p, q) = (axis(j), on_arc(j));
+            let fits = ((q.0 - p.0).hypot(q.1 - p.1) / self.h).round() as usize;
+            // At most 2^(n − j) edges, so the lines can halve down to two at line n − 1.
+            let cap = 1usize.checked_shl((n - j) as u32).unwrap_or(usize::MAX);
+            edges[j] = if j == n - 1 {
+                2
             } else {
-                self.arc(self.phi_tip - (self.phi_tip - phi_m) * i as f64 / nr as f64)
-            }
-        };
-        let left = |v: f64| (0.0, self.z_j - self.nose_len * v);
-        let right = |v: f64| self.arc(phi_m * v);
+                fits.max(1)
+                    .max(edges[j - 1].div_ceil(2))
+                    .min(edges[j - 1])
+                    .min(cap)
+            };
+        }
 
-        let mut rows: Vec<Vec<(f64, f64)>> = Vec::with_capacity(n_v + self.shank_z.len());
-        for g in 0..n_v {
-            let v = (n_v - g) as f64 / n_v as f64;
-            let row = (0..=nr)
-                .map(|i| {
-                    if g == 0 {
-                        return top(i);
-                    }
-                    if i == 0 {
-                        return left(v);
-                    }
-                    if i == nr {
-                        return right(v);
-                    }
-                    // Patch parameter u blends the arc-length fractions of the bottom and top
-                    // sides, so the interior follows the (graded) junction columns near the shank.
-                    let ub = self.cols[i] / self.a;
-                    let ut = i as f64 / nr as f64;
-                    let u = ub + v * (ut - ub);
-                    let (b, tp, l, rr) = (bottom(i), top(i), left(v), right(v));
-                    let coons = |k: fn((f64, f64)) -> f64| {
-                        (1.0 - v) * k(b) + v * k(tp) + (1.0 - u) * k(l) + u * k(rr)
-                            - ((1.0 - u) * (1.0 - v) * k(o)
-                                + u * (1.0 - v) * k(sp)
-                                + (1.0 - u) * v * k(t)
-                                + u * v * k(m))
+        let mut mesh = CellMesh::default();
+        let tip = mesh.corner((0.0, self.z_j - self.nose_len), false);
+        let mut lines: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for j in (1..n).rev() {
+            let (p, q) = (axis(j), on_arc(j));
+            let m = edges[j];
+            lines[j] = (0..=m)
+                .map(|k| {
+                    let point = match k {
+                        0 => p,
+                        _ if k == m => q,
+                        _ => {
+                            let f = k as f64 / m as f64;
+                            (p.0 + f * (q.0 - p.0), p.1 + f * (q.1 - p.1))
+                        }
                     };
-                    (coons(|p| p.0), coons(|p| p.1))
+                    mesh.corner(point, k != 0 && k != m)
                 })
                 .collect();
-            rows.push(row);
         }
-        for &z in &self.shank_z {
-            rows.push(self.cols.iter().map(|&r| (r, z)).collect());
-        }
-        smooth_interior(&mut rows[..=n_v]);
-        raise_min_altitude(&mut rows[..=n_v]);
-        rows
-    }
-}
+        lines[0] = self
+            .cols
+            .iter()
+            .map(|&r| mesh.corner((r, self.z_j), false))
+            .collect();
 
-/// Smooths the interior corners of a structured patch whose boundary rows and columns stay
-/// fixed, by Winslow's elliptic grid equations α x_ξξ − 2β x_ξη + γ x_ηη = 0 (Winslow 1966;
-/// Thompson, Warsi & Mastin, "Numerical Grid Generation", 1985, ch. 6).
-///
-/// The nose patch has a straight (180°) corner at M, where transfinite interpolation (and a
-/// plain Laplace smoother) squashes the cells along the arc; Winslow's equations keep the grid
-/// lines there apart. Gauss–Seidel sweeps in a fixed order, starting from the Coons positions.
-fn smooth_interior(rows: &mut [Vec<(f64, f64)>]) {
-    let (n_g, n_i) = (rows.len(), rows[0].len());
-    if n_g < 3 || n_i < 3 {
-        return;
-    }
-    let scale = rows
-        .iter()
-        .flatten()
-        .map(|p| p.0.abs().max(p.1.abs()))
-        .fold(0.0, f64::max);
-    for _ in 0..20_000 {
-        let mut largest_move: f64 = 0.0;
-        for g in 1..n_g - 1 {
-            for i in 1..n_i - 1 {
-                let (up, down) = (rows[g + 1][i], rows[g - 1][i]);
-                let (left, right) = (rows[g][i - 1], rows[g][i + 1]);
-                let (ul, ur) = (rows[g + 1][i - 1], rows[g + 1][i + 1]);
-                let (dl, dr) = (rows[g - 1][i - 1], rows[g - 1][i + 1]);
-                let xi = (0.5 * (right.0 - left.0), 0.5 * (right.1 - left.1));
-                let eta = (0.5 * (up.0 - down.0), 0.5 * (up.1 - down.1));
-                let alpha = eta.0 * eta.0 + eta.1 * eta.1;
-                let beta = xi.0 * eta.0 + xi.1 * eta.1;
-                let gamma = xi.0 * xi.0 + xi.1 * xi.1;
-                let cross = |k: fn((f64, f64)) -> f64| 0.25 * (k(ur) - k(ul) - k(dr) + k(dl));
-                let solve = |k: fn((f64, f64)) -> f64| {
-                    (alpha * (k(right) + k(left)) + gamma * (k(up) + k(down))
-                        - 2.0 * beta * cross(k))
-                        / (2.0 * (alpha + gamma))
+        let last = &lines[n - 1];
+        mesh.cells.push(vec![tip, last[2], last[1], last[0]]);
+        for j in (0..n - 1).rev() {
+            let (lower, upper) = (&lines[j + 1], &lines[j]);
+            let (cl, cu) = (edges[j + 1], edges[j]);
+            // Each edge k of the line with fewer meets edges s(k)..s(k + 1) of the other: one,
+            // or two in a pentagon.
+            let (few, many) = (cl.min(cu), cl.max(cu));
+            let s = |k: usize| (2 * k * many + few) / (2 * few);
+            for k in 0..few {
+                let cell = if cl <= cu {
+                    let mut cell = vec![lower[k], lower[k + 1]];
+                    cell.extend((s(k)..=s(k + 1)).rev().map(|u| upper[u]));
+                    cell
+                } else {
+                    let mut cell: Vec<u32> = (s(k)..=s(k + 1)).map(|l| lower[l]).collect();
+                    cell.extend([upper[k + 1], upper[k]]);
+                    cell
                 };
-                let target = (solve(|p| p.0), solve(|p| p.1));
-                let p = &mut rows[g][i];
-                largest_move = largest_move.max((target.0 - p.0).abs().max((target.1 - p.1).abs()));
-                *p = target;
+                mesh.cells.push(cell);
             }
         }
-        if largest_move <= 1e-13 * scale {
-            break;
-        }
+
+        let rows: Vec<Vec<(f64, f64)>> = self
+            .shank_z
+            .iter()
+            .map(|&z| self.cols.iter().map(|&r| (r, z)).collect())
+            .collect();
+        mesh.push_block(&rows, self.hole, &lines[0]);
+        mesh
     }
 }
 
-/// Smallest altitude (2A over the longest side) of the four crossed triangles of the quad
-/// `c` (counter-clockwise); negative when one is inverted.
-fn crossed_min_altitude(c: [(f64, f64); 4]) -> f64 {
-    let mid = (
-        0.25 * (c[0].0 + c[1].0 + c[2].0 + c[3].0),
-        0.25 * (c[0].1 + c[1].1 + c[2].1 + c[3].1),
-    );
-    (0..4)
-        .map(|k| {
-            let (p, q) = (c[k], c[(k + 1) % 4]);
-            let twice_area = (q.0 - p.0) * (mid.1 - p.1) - (q.1 - p.1) * (mid.0 - p.0);
-            let longest = [(p, q), (q, mid), (mid, p)]
-                .iter()
-                .map(|(x, y)| (y.0 - x.0).hypot(y.1 - x.1))
-                .fold(0.0, f64::max);
-            twice_area / longest
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Moves interior corners of a structured patch (boundary fixed) to raise the smallest
-/// altitude of the crossed triangles around them: local max-min optimisation by compass
-/// search (Freitag & Ollivier-Gooch 1997), in a fixed order, a few sweeps.
-///
-/// The nose patch has a straight (180°) corner at M: its cell is a triangle with M on one
-/// side, and the Winslow grid leaves that cell's inner corner close to M, so its triangles'
-/// altitudes — and the time step — fall to about h/10. The smallest altitude sets the stable
-/// step of the whole projectile (physics.md §2), so it is worth raising.
-fn raise_min_altitude(rows: &mut [Vec<(f64, f64)>]) {
-    let (n_g, n_i) = (rows.len(), rows[0].len());
-    if n_g < 3 || n_i < 3 {
-        return;
-    }
-    let cell = |rows: &[Vec<(f64, f64)>], g: usize, i: usize| {
-        crossed_min_altitude([
-            rows[g][i],
-            rows[g][i + 1],
-            rows[g + 1][i + 1],
-            rows[g + 1][i],
-        ])
-    };
-    let around = |rows: &[Vec<(f64, f64)>], g: usize, i: usize| {
-        cell(rows, g - 1, i - 1)
-            .min(cell(rows, g - 1, i))
-            .min(cell(rows, g, i - 1))
-            .min(cell(rows, g, i))
-    };
-    const D: f64 = FRAC_1_SQRT_2;
-    const DIRECTIONS: [(f64, f64); 8] = [
-        (1.0, 0.0),
-        (0.0, 1.0),
-        (-1.0, 0.0),
-        (0.0, -1.0),
-        (D, D),
-        (-D, D),
-        (-D, -D),
-        (D, -D),
-    ];
-    for _ in 0..20 {
-        let mut moved = false;
-        for g in 1..n_g - 1 {
-            for i in 1..n_i - 1 {
-                let p0 = rows[g][i];
-                let size = (rows[g][i + 1].0 - p0.0).hypot(rows[g][i + 1].1 - p0.1);
-                let mut best = around(rows, g, i);
-                // Cells near the shape of a square keep their Winslow corners (a square cell's
-                // crossed triangles have altitude size/2).
-                if best > 0.35 * size {
-                    continue;
-                }
-                let mut step = 0.2 * size;
-                while step > 1e-3 * size {
-                    let base = rows[g][i];
-                    let mut improved = false;
-                    for d in DIRECTIONS {
-                        rows[g][i] = (base.0 + step * d.0, base.1 + step * d.1);
-                        let q = around(rows, g, i);
-                        if q > best * (1.0 + 1e-9) {
-                            best = q;
-                            improved = true;
-                            break;
-                        }
-                        rows[g][i] = base;
-                    }
-                    if improved {
-                        moved = true;
-                    } else {
-                        step *= 0.5;
-                    }
-                }
-            }
-        }
-        if !moved {
-            break;
-        }
-    }
-}
-
-/// Builds nodes, crossed-triangle elements, lumped masses and master segments from corner
-/// positions `rows[g][i]` (column 0 on the axis) and lumps `filler_mass` on the walls of the
-/// hole.
-fn assemble(
-    rows: &[Vec<(f64, f64)>],
-    topo: Topology,
-    density: f64,
-    filler_mass: f64,
-) -> Result<ProjectileMesh, MeshError> {
-    let (n_nodes, n_elements) = topo.counts();
+/// Builds nodes (the corners, then a centre per cell at the mean of its corners),
+/// crossed-triangle elements (one per cell edge), lumped masses and master segments, and lumps
+/// `filler_mass` on the walls of the hole.
+fn assemble(mesh: &CellMesh, density: f64, filler_mass: f64) -> Result<ProjectileMesh, MeshError> {
+    let (n_nodes, n_elements) = mesh.counts();
     let mut pos: Vec<(f64, f64)> = Vec::with_capacity(n_nodes);
-    let width = topo.cells_r + 1;
-    let mut corner = vec![u32::MAX; (topo.cells_z + 1) * width];
-    let mut centre = vec![u32::MAX; topo.cells_z * topo.cells_r];
-    // Row by row: the corners of a row, then the centres of the cells above it.
-    for g in 0..=topo.cells_z {
-        for i in 0..=topo.cells_r {
-            if topo.corner_used(g, i) {
-                corner[g * width + i] = pos.len() as u32;
-                pos.push(rows[g][i]);
-            }
-        }
-        for i in 0..topo.cells_r {
-            if topo.cell_active(g, i) {
-                centre[g * topo.cells_r + i] = pos.len() as u32;
-                let p = [
-                    rows[g][i],
-                    rows[g][i + 1],
-                    rows[g + 1][i + 1],
-                    rows[g + 1][i],
-                ];
-                pos.push((
-                    0.25 * p.iter().map(|q| q.0).sum::<f64>(),
-                    0.25 * p.iter().map(|q| q.1).sum::<f64>(),
-                ));
-            }
-        }
-    }
+    pos.extend_from_slice(&mesh.corners);
     let mut elements = Vec::with_capacity(n_elements);
-    for g in 0..topo.cells_z {
-        for i in 0..topo.cells_r {
-            if !topo.cell_active(g, i) {
-                continue;
-            }
-            let c = [
-                corner[g * width + i],
-                corner[g * width + i + 1],
-                corner[(g + 1) * width + i + 1],
-                corner[(g + 1) * width + i],
-            ];
-            let mid = centre[g * topo.cells_r + i];
-            for k in 0..4 {
-                elements.push([c[k], c[(k + 1) % 4], mid]);
-            }
+    for cell in &mesh.cells {
+        let n = cell.len() as f64;
+        let mid = pos.len() as u32;
+        pos.push(cell.iter().fold((0.0, 0.0), |acc, &k| {
+            let p = mesh.corners[k as usize];
+            (acc.0 + p.0 / n, acc.1 + p.1 / n)
+        }));
+        for k in 0..cell.len() {
+            elements.push([cell[k], cell[(k + 1) % cell.len()], mid]);
         }
     }
-    debug_assert_eq!((pos.len(), elements.len()), (n_nodes, n_elements));
 
     // Lumped ring masses: ρ₀V₀/3 per node and element, V₀ = 2π r̄ A (physics.md §2).
     let mut mass = vec![0.0f64; pos.len()];
