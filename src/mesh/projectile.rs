@@ -17,7 +17,7 @@
 //! Laplace smoothing and a local max-min optimisation of the smallest altitude place the nose's
 //! interior nodes.
 //!
-//! Longer than most files (about 800 lines) because the two layouts, the smoothing and the
+//! Longer than most files (about 830 lines) because the two layouts, the smoothing and the
 //! assembly into triangles and master segments share one cell structure; its tests live in
 //! `projectile/tests.rs`.
 
