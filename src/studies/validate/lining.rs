@@ -1,7 +1,9 @@
 //! The concrete lining the nose, CRH 2 against CRH 6 ([`crate::studies::lining`]): kernel
 //! completeness, the volumetric rate the step reads against a first-order consistent one, and
-//! the pressure, along the nose. A measurement for the question whether the cut kernel
-//! under-reads a slender nose's compaction; no accuracy target.
+//! the pressure, along the nose; and the contact's normal pressure on the nose by bands of
+//! radius against the local law behind Forrestal's equation. Measurements (does the cut kernel
+//! under-read a slender nose's compaction; is the tip near the axis overloaded); no accuracy
+//! target.
 
 use crate::output::plot::{Chart, Mark};
 use crate::studies::lining::{band_pressures, study, BandPressure, Lining, Snapshot};
