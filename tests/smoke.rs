@@ -1067,16 +1067,22 @@ fn stability_suite_runs_and_closes_the_energy() {
     let table = std::fs::read_to_string(dir.join("stability.md")).unwrap();
     for name in ["v2500", "grazing"] {
         assert!(table.contains(&format!("| {name} | cpu |")), "{table}");
-        let text = std::fs::read_to_string(dir.join(format!("{name}-cpu/summary.json"))).unwrap();
-        let s: serde_json::Value = serde_json::from_str(&text).unwrap();
-        assert_eq!(s["status"], "completed", "{name}: {text}");
-        let energy = s["energy_error"].as_f64().unwrap();
-        assert!(energy.abs() < 0.01, "{name}: energy error {energy}");
-        assert_eq!(s["slaves_inside"], 0, "{name}");
-        assert_eq!(s["nonfinite_values"], 0, "{name}");
-        assert!(s["particles_at_density_floor"].is_u64(), "{name}: {text}");
+        assert_closed(name, &dir.join(format!("{name}-cpu")));
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The run in `dir` completed with its energy account closed to 1 % of the impact energy, no
+/// slave left inside the projectile and no non-finite value.
+fn assert_closed(name: &str, dir: &std::path::Path) {
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(s["status"], "completed", "{name}: {text}");
+    let energy = s["energy_error"].as_f64().unwrap();
+    assert!(energy.abs() < 0.01, "{name}: energy error {energy}");
+    assert_eq!(s["slaves_inside"], 0, "{name}");
+    assert_eq!(s["nonfinite_values"], 0, "{name}");
+    assert!(s["particles_at_density_floor"].is_u64(), "{name}: {text}");
 }
 
 /// λ = 1 on the stability scene: the account of a correction that puts each slave's whole
@@ -1100,13 +1106,7 @@ fn lambda_one_closes_its_energy_at_half_the_step() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
-    assert_eq!(s["status"], "completed", "{text}");
-    let energy = s["energy_error"].as_f64().unwrap();
-    assert!(energy.abs() < 0.01, "energy error {energy}");
-    assert_eq!(s["slaves_inside"], 0);
-    assert_eq!(s["nonfinite_values"], 0);
+    assert_closed("lambda1", &dir);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
