@@ -8,6 +8,8 @@ use crate::scene::{Scene, TargetSpec};
 /// Bytes of state per particle (28 scalar arrays, 2 three-vectors and the 2 index arrays of
 /// the cell grid), per element and per node (with its share of the node → element CSR).
 const BYTES_PER_PARTICLE: usize = (28 + 6 + 2) * 4;
+/// Bytes of the CPU path's neighbour list per neighbour (`cpu::neighbours::Pair`).
+const BYTES_PER_NEIGHBOUR: usize = 20;
 const BYTES_PER_ELEMENT: usize = 22 * 4;
 const BYTES_PER_NODE: usize = 12 * 4;
 
@@ -31,7 +33,7 @@ pub fn footprint(s: &Scene) -> Footprint {
         mesh::projectile::estimate_counts(p)
     };
     let particles = s.target.as_ref().map_or(0, particle_count);
-    let bytes = particles as f64 * BYTES_PER_PARTICLE as f64
+    let bytes = particles as f64 * s.target.as_ref().map_or(0, particle_bytes) as f64
         + elements as f64 * BYTES_PER_ELEMENT as f64
         + nodes as f64 * BYTES_PER_NODE as f64;
     Footprint {
@@ -40,6 +42,14 @@ pub fn footprint(s: &Scene) -> Footprint {
         elements,
         bytes,
     }
+}
+
+/// Bytes per particle: its state and the CPU path's list of its neighbours, the lattice sites
+/// within the kernel's support 2h = 2 (h/Δ) Δ of it (the GPU's lists are smaller).
+fn particle_bytes(t: &TargetSpec) -> usize {
+    let reach = 2.0 * t.smoothing_ratio;
+    let neighbours = (std::f64::consts::PI * reach * reach).ceil() as usize;
+    BYTES_PER_PARTICLE + neighbours * BYTES_PER_NEIGHBOUR
 }
 
 /// Particles of a target: its lattice less those a lead hole leaves out.
@@ -203,7 +213,7 @@ pub fn estimate(s: &Scene, m: &ProjectileMesh) -> Estimate {
     };
     let dt = s.run.cfl * dt_fem.min(dt_sph);
     let steps = (s.run.end_time / dt).ceil().min(u64::MAX as f64) as u64;
-    let bytes = particles * BYTES_PER_PARTICLE
+    let bytes = particles * s.target.as_ref().map_or(0, particle_bytes)
         + m.elements.len() * BYTES_PER_ELEMENT
         + m.node_r.len() * BYTES_PER_NODE;
     // After the first, one at each interval reached (at most one a step of those the run
@@ -243,6 +253,21 @@ mod tests {
 
     fn smoke(overrides: &[&str]) -> Scene {
         crate::scene::shipped_case("smoke.toml", overrides)
+    }
+
+    /// The memory estimate counts the CPU path's list at its size: the shipped cases'
+    /// h = 1.5 Δ gives each interior particle the 28 lattice sites within 3 Δ, which the
+    /// estimate takes as the disc's area rounded up, 29.
+    #[test]
+    fn the_neighbour_list_is_counted_at_its_size() {
+        use crate::cpu::neighbours::Pair;
+        assert_eq!(std::mem::size_of::<Pair>(), BYTES_PER_NEIGHBOUR);
+        let scene = smoke(&["target.smoothing_ratio=1.5"]);
+        let t = scene.target.as_ref().unwrap();
+        assert_eq!(
+            particle_bytes(t),
+            BYTES_PER_PARTICLE + 29 * BYTES_PER_NEIGHBOUR
+        );
     }
 
     /// The smoke scene with `key = interval`: its estimate, and the folder a CPU run of it

@@ -54,7 +54,7 @@ fn free_target_with_rates() -> (TargetSpec, Particles, SphParams, neighbours::Ce
     let (mut p, params) = target(&s);
     let mut grid = neighbours::CellGrid::default();
     let support = integrate::support(&params);
-    neighbours::run(&mut grid, &p.r, &p.z, support);
+    neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
     sph_rates::run(&mut p, &grid, &params);
     (s, p, params, grid, support)
 }
@@ -64,11 +64,10 @@ fn target_at_rest_stays_at_rest() {
     let s = spec(true);
     let (mut p, params) = target(&s);
     let mut grid = neighbours::CellGrid::default();
-    let support = integrate::support(&params);
     let dt = 0.3 * timestep::particle_dt(&p, &params);
     for _ in 0..1000 {
         integrate::particles(&mut p, &params, dt, 10.0).unwrap();
-        neighbours::run(&mut grid, &p.r, &p.z, support);
+        neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
         sph_rates::run(&mut p, &grid, &params);
         concrete::run(&mut p, &params, dt);
         sph_forces::run(&mut p, &grid, &params);
@@ -97,7 +96,7 @@ fn gradient_is_exact(filter: bool) {
     let (mut p, mut params) = target(&s);
     params.velocity_filter = filter;
     let mut grid = neighbours::CellGrid::default();
-    neighbours::run(&mut grid, &p.r, &p.z, integrate::support(&params));
+    neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
 
     for i in 0..p.len() {
         p.vz[i] = -250.0;
@@ -159,7 +158,7 @@ fn velocity_filter_takes_particle_scatter_out_of_the_gradient() {
     let s = spec(false);
     let (mut p, mut params) = target(&s);
     let mut grid = neighbours::CellGrid::default();
-    neighbours::run(&mut grid, &p.r, &p.z, integrate::support(&params));
+    neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
     let (a, b, dv) = (300.0f32, -500.0f32, 5.0f32);
     // A fixed pseudo-random scatter in [−dv, dv) on each component (a linear congruential
     // sequence, so the test is the same every run).
@@ -225,7 +224,7 @@ fn conjugate_gradient_stress_power_is_the_forces_work() {
     s.viscosity_beta = 0.0;
     let (mut p, mut params) = target(&s);
     let mut grid = neighbours::CellGrid::default();
-    neighbours::run(&mut grid, &p.r, &p.z, integrate::support(&params));
+    neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
     let mut state = 987654321u64;
     let mut unit = || {
         state = state
@@ -442,9 +441,8 @@ fn slug_impact(switch: ViscositySwitch) {
     };
     let (e0, p0) = (ke(&p), momentum(&p));
     let mut grid = neighbours::CellGrid::default();
-    let support = integrate::support(&params);
     let step = |p: &mut Particles, grid: &mut neighbours::CellGrid, dt: f32| {
-        neighbours::run(grid, &p.r, &p.z, support);
+        neighbours::run(grid, &p.r, &p.z, &params.kernel);
         sph_rates::run(p, grid, &params);
         concrete::run(p, &params, dt);
         sph_forces::run(p, grid, &params);
@@ -490,7 +488,7 @@ fn balsara_switch_removes_the_viscosity_from_shear_only() {
     let params_on = SphParams::new(&switched);
     assert!(params_on.balsara && !params_off.balsara);
     let mut grid = neighbours::CellGrid::default();
-    neighbours::run(&mut grid, &p0.r, &p0.z, integrate::support(&params_off));
+    neighbours::run(&mut grid, &p0.r, &p0.z, &params_off.kernel);
     let support = integrate::support(&params_off) as f64;
     let inner = |p: &Particles, i: usize| {
         let (r, z) = (p.r[i] as f64, p.z[i] as f64);

@@ -1,8 +1,15 @@
 //! `neighbours`: bin particles into square cells of half the kernel's support with a counting
-//! sort (count, prefix scan, scatter). Within a cell particles keep ascending index order, so
-//! every neighbour loop visits them in the same order on every run.
+//! sort (count, prefix scan, scatter), then list each particle's neighbours and axis ghosts
+//! with their separation and kernel gradient. Within a cell particles keep ascending index
+//! order, so every neighbour loop visits them in the same order on every run. The gathers of
+//! one step (`sph_rates`, `sph_filter`, `sph_forces`) read the list instead of searching the
+//! cells again: the search and the kernel gradient were most of their time.
 
-/// Particles binned by cell.
+use rayon::prelude::*;
+
+use crate::kernel::Kernel;
+
+/// Particles binned by cell, and the neighbours of each at the positions binned.
 #[derive(Clone, Debug, Default)]
 pub struct CellGrid {
     /// Cell edge (m): half the kernel support radius, so a neighbour search visits 5×5 cells
@@ -16,6 +23,53 @@ pub struct CellGrid {
     pub sorted: Vec<u32>,
     /// Scratch of `run`: each particle's cell.
     pub cell_of: Vec<u32>,
+    /// The neighbours of particles `[k·PAIR_CHUNK, (k + 1)·PAIR_CHUNK)` in chunk k, each
+    /// particle's in [`for_each_neighbour`]'s order.
+    chunks: Vec<PairChunk>,
+}
+
+/// Particles per chunk of the neighbour list: each chunk is filled by one task.
+const PAIR_CHUNK: usize = 256;
+
+#[derive(Clone, Debug, Default)]
+struct PairChunk {
+    /// `pairs[start[k]..start[k + 1]]` are the neighbours of the chunk's k-th particle.
+    start: Vec<u32>,
+    pairs: Vec<Pair>,
+}
+
+/// A neighbour as the gathers read it: [`Neighbour`] with the kernel's `dW/d|x| / |x|`.
+#[derive(Clone, Copy, Debug)]
+pub struct Pair {
+    /// j, with [`MIRROR`] set for j's axis ghost.
+    j_mirror: u32,
+    /// x_i − x_j (x_j mirrored for a ghost).
+    pub dr: f32,
+    pub dz: f32,
+    pub dist: f32,
+    /// `dW/d|x| / |x|`, 0 for coincident particles (`Kernel::grad`).
+    df: f32,
+}
+
+/// The bit of `Pair::j_mirror` that marks an axis ghost.
+const MIRROR: u32 = 1 << 31;
+
+impl Pair {
+    #[inline]
+    pub fn j(&self) -> usize {
+        (self.j_mirror & !MIRROR) as usize
+    }
+
+    #[inline]
+    pub fn mirror(&self) -> bool {
+        self.j_mirror & MIRROR != 0
+    }
+
+    /// ∇_i W_ij, the same bits as `Kernel::grad(dr, dz, dist)`.
+    #[inline]
+    pub fn grad(&self) -> [f32; 2] {
+        [self.df * self.dr, self.df * self.dz]
+    }
 }
 
 /// Cells searched on each side of a particle's own cell.
@@ -53,9 +107,57 @@ impl CellGrid {
     }
 }
 
-/// Rebuild the grid for the current positions. Cells are numbered row by row (z outer), so the
-/// cells of a row searched are one contiguous run of `sorted`.
-pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], support: f32) {
+impl CellGrid {
+    /// The neighbours and axis ghosts of particle i within the kernel's support, at the
+    /// positions `run` binned.
+    #[inline]
+    pub fn neighbours(&self, i: usize) -> &[Pair] {
+        let chunk = &self.chunks[i / PAIR_CHUNK];
+        let k = i % PAIR_CHUNK;
+        &chunk.pairs[chunk.start[k] as usize..chunk.start[k + 1] as usize]
+    }
+}
+
+/// Rebuild the grid and the neighbour list for the current positions.
+pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], kernel: &Kernel) {
+    let support = kernel.support();
+    bin(grid, r, z, support);
+    let n = r.len();
+    let chunks = n.div_ceil(PAIR_CHUNK);
+    grid.chunks.resize_with(chunks, PairChunk::default);
+    let mut chunk_list = std::mem::take(&mut grid.chunks);
+    let g = &*grid;
+    let tiny = 1.0e-12 * kernel.h;
+    chunk_list
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            chunk.start.clear();
+            chunk.pairs.clear();
+            chunk.start.push(0);
+            for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(n) {
+                for_each_neighbour(g, r, z, i, support, |nb| {
+                    chunk.pairs.push(Pair {
+                        j_mirror: nb.j as u32 | if nb.mirror { MIRROR } else { 0 },
+                        dr: nb.dr,
+                        dz: nb.dz,
+                        dist: nb.dist,
+                        df: if nb.dist <= tiny {
+                            0.0
+                        } else {
+                            kernel.dw(nb.dist) / nb.dist
+                        },
+                    });
+                });
+                chunk.start.push(chunk.pairs.len() as u32);
+            }
+        });
+    grid.chunks = chunk_list;
+}
+
+/// Rebuild the cells for the current positions. Cells are numbered row by row (z outer), so
+/// the cells of a row searched are one contiguous run of `sorted`.
+fn bin(grid: &mut CellGrid, r: &[f32], z: &[f32], support: f32) {
     let n = r.len();
     let mut r_max = 0.0f32;
     let mut z_min = f32::MAX;
@@ -115,9 +217,10 @@ mod tests {
             seed ^= seed << 5;
             z.push(-((seed % 1000) as f32) * 1e-4);
         }
-        let support = 0.007;
+        let kernel = Kernel::new(0.0035);
+        let support = kernel.support();
         let mut grid = CellGrid::default();
-        run(&mut grid, &r, &z, support);
+        run(&mut grid, &r, &z, &kernel);
         for i in 0..r.len() {
             let mut found = Vec::new();
             grid.for_each_candidate(r[i], z[i], |j| {
@@ -131,6 +234,38 @@ mod tests {
                 .collect();
             assert_eq!(found, brute, "particle {i}");
         }
+    }
+
+    /// The list holds what the cell search visits, in its order, with the kernel's gradient to
+    /// the bit: the gathers that read it sum the same terms as a search would.
+    #[test]
+    fn the_list_is_the_search() {
+        let n = 700; // more than one chunk
+        let r: Vec<f32> = (0..n).map(|k| (k % 20) as f32 * 1.1e-3 + 1e-4).collect();
+        let z: Vec<f32> = (0..n)
+            .map(|k| -((k / 20) as f32) * 1.0e-3 - (k % 7) as f32 * 1e-5)
+            .collect();
+        let kernel = Kernel::new(1.5e-3);
+        let mut grid = CellGrid::default();
+        run(&mut grid, &r, &z, &kernel);
+        let mut ghosts = 0;
+        for i in 0..n {
+            let mut searched = Vec::new();
+            for_each_neighbour(&grid, &r, &z, i, kernel.support(), |nb| searched.push(nb));
+            let listed = grid.neighbours(i);
+            assert_eq!(listed.len(), searched.len(), "particle {i}");
+            for (l, s) in listed.iter().zip(&searched) {
+                assert_eq!((l.j(), l.mirror()), (s.j, s.mirror), "particle {i}");
+                assert_eq!(
+                    [l.dr, l.dz, l.dist].map(f32::to_bits),
+                    [s.dr, s.dz, s.dist].map(f32::to_bits)
+                );
+                let g = kernel.grad(s.dr, s.dz, s.dist);
+                assert_eq!(l.grad().map(f32::to_bits), g.map(f32::to_bits));
+                ghosts += s.mirror as usize;
+            }
+        }
+        assert!(ghosts > 0);
     }
 }
 

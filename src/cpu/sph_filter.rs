@@ -3,7 +3,6 @@
 
 use rayon::prelude::*;
 
-use super::neighbours::for_each_neighbour;
 use super::sph_rates::Field;
 
 /// The filtered velocity of every particle: `v̄_i = v_i + Σ_j A_j W_ij (v_j − v_i − L_i (x_j −
@@ -20,16 +19,17 @@ pub(crate) fn run(field: &Field, vr: &[f32], vz: &[f32]) -> (Vec<f32>, Vec<f32>)
             let (l, _) = field.gradient(i, vr, vz);
             let mut weight = kernel.w(0.0) * field.area[i];
             let (mut sum_r, mut sum_z) = (0.0f32, 0.0f32);
-            for_each_neighbour(field.grid, field.r, field.z, i, field.support, |nb| {
-                let w = kernel.w(nb.dist) * field.area[nb.j];
-                let vrj = if nb.mirror { -vr[nb.j] } else { vr[nb.j] };
+            for nb in field.grid.neighbours(i) {
+                let j = nb.j();
+                let w = kernel.w(nb.dist) * field.area[j];
+                let vrj = if nb.mirror() { -vr[j] } else { vr[j] };
                 // x_j − x_i = −(dr, dz)
                 let dep_r = vrj - vr[i] + l[0] * nb.dr + l[1] * nb.dz;
-                let dep_z = vz[nb.j] - vz[i] + l[2] * nb.dr + l[3] * nb.dz;
+                let dep_z = vz[j] - vz[i] + l[2] * nb.dr + l[3] * nb.dz;
                 weight += w;
                 sum_r += w * dep_r;
                 sum_z += w * dep_z;
-            });
+            }
             (vr[i] + sum_r / weight, vz[i] + sum_z / weight)
         })
         .unzip()

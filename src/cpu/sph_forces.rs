@@ -38,7 +38,7 @@
 
 use rayon::prelude::*;
 
-use super::neighbours::{for_each_neighbour, CellGrid};
+use super::neighbours::CellGrid;
 use super::sph_rates::hoop_radius;
 use crate::state::{Particles, SphParams};
 
@@ -48,10 +48,8 @@ pub(crate) const ETA2: f32 = 0.01;
 pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let h = params.h;
     let kernel = &params.kernel;
-    let support = kernel.support();
     let Particles {
         r,
-        z,
         vr,
         vz,
         ar,
@@ -95,9 +93,8 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 );
             }
         });
-    let (r, z, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
+    let (r, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
         &*r,
-        &*z,
         &*vr,
         &*vz,
         &*rho,
@@ -124,11 +121,11 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             let mut pair_power = 0.0f32;
             let mut heat = 0.0f32;
             let mut mu_max = 0.0f32;
-            for_each_neighbour(grid, r, z, i, support, |nb| {
-                let j = nb.j;
-                let sign = if nb.mirror { -1.0 } else { 1.0 };
+            for nb in grid.neighbours(i) {
+                let j = nb.j();
+                let sign = if nb.mirror() { -1.0 } else { 1.0 };
                 let mj = m_tilde[j];
-                let gw = kernel.grad(nb.dr, nb.dz, nb.dist);
+                let gw = nb.grad();
                 let sj = sigma[j];
                 let rj = hoop_radius(r[j], h);
                 // w = ±r: a mirror ghost pair is weighted −r on both sides.
@@ -171,7 +168,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 acc[0] += pair[0];
                 acc[1] += pair[1];
                 pair_power += pair[0] * dvr + pair[1] * dvz;
-            });
+            }
             let hoop_r = -(s_tt[i] - p[i]) * hoop_weight[i] / (rho[i] * ri);
             *work = -pair_power / (2.0 * ri) - hoop_r * vr[i];
             *ar = acc[0] / ri + hoop_r;

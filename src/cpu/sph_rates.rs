@@ -23,7 +23,7 @@
 
 use rayon::prelude::*;
 
-use super::neighbours::{for_each_neighbour, CellGrid};
+use super::neighbours::CellGrid;
 use crate::state::{Particles, SphParams};
 
 const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
@@ -51,11 +51,8 @@ pub fn hoop_rate(params: &SphParams, hoop_weight: f32, vr: f32, r: f32) -> f32 {
 
 pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let h = params.h;
-    let kernel = &params.kernel;
-    let support = kernel.support();
     let Particles {
         r,
-        z,
         vr,
         vz,
         mass,
@@ -80,19 +77,16 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *mt = mass[i] / (TWO_PI * hoop_radius(r[i], h));
             *a = *mt / rho[i];
         });
-    let (r, z, vr, vz, rho, m_tilde, area, sound) =
-        (&*r, &*z, &*vr, &*vz, &*rho, &*m_tilde, &*area, &*sound);
+    let (r, rho, m_tilde, area, sound) = (&*r, &*rho, &*m_tilde, &*area, &*sound);
     let field = Field {
         r,
-        z,
         rho,
         m_tilde,
         area,
         h,
         conjugate: params.conjugate_gradient,
         grid,
-        kernel,
-        support,
+        kernel: &params.kernel,
     };
     let filtered;
     let (vr, vz): (&[f32], &[f32]) = if params.velocity_filter {
@@ -127,16 +121,15 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
 /// What a gather over the particles reads besides the field gathered.
 pub(crate) struct Field<'a> {
     pub(super) r: &'a [f32],
-    pub(super) z: &'a [f32],
     pub(super) rho: &'a [f32],
     pub(super) m_tilde: &'a [f32],
     pub(super) area: &'a [f32],
     pub(super) h: f32,
     /// Gather the conjugate gradient instead of the corrected one.
     pub(super) conjugate: bool,
+    /// The neighbour list of the positions gathered at.
     pub(super) grid: &'a CellGrid,
     pub(super) kernel: &'a crate::kernel::Kernel,
-    pub(super) support: f32,
 }
 
 impl Field<'_> {
@@ -148,17 +141,17 @@ impl Field<'_> {
         let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
         let ri = hoop_radius(self.r[i], self.h);
         let mut weight = 0.0f32;
-        for_each_neighbour(self.grid, self.r, self.z, i, self.support, |nb| {
-            let j = nb.j;
-            let sign = if nb.mirror { -1.0 } else { 1.0 };
+        for nb in self.grid.neighbours(i) {
+            let j = nb.j();
+            let sign = if nb.mirror() { -1.0 } else { 1.0 };
             let rj = hoop_radius(self.r[j], self.h);
             let area = if self.conjugate {
                 self.area[j] * self.rho[j] / self.rho[i]
             } else {
                 self.area[j]
             };
-            let gw = self.kernel.grad(nb.dr, nb.dz, nb.dist);
-            let vrj = if nb.mirror { -vr[j] } else { vr[j] };
+            let gw = nb.grad();
+            let vrj = if nb.mirror() { -vr[j] } else { vr[j] };
             let dvr = vrj - vr[i];
             let dvz = vz[j] - vz[i];
             // x_j − x_i = −(dr, dz)
@@ -171,7 +164,7 @@ impl Field<'_> {
             m[2] -= area * nb.dz * gw[0];
             m[3] -= area * nb.dz * gw[1];
             weight += self.m_tilde[j] * (sign * ri + sign * rj - 2.0 * ri) * gw[0];
-        });
+        }
         let l = if self.conjugate { g } else { correct(g, m) };
         (l, weight / self.rho[i])
     }
@@ -226,17 +219,15 @@ pub fn kernel_readings(
 ) -> Vec<KernelReading> {
     let h = params.h;
     let kernel = &params.kernel;
-    let support = kernel.support();
     let p = particles;
     let mut grid = CellGrid::default();
-    super::neighbours::run(&mut grid, &p.r, &p.z, support);
+    super::neighbours::run(&mut grid, &p.r, &p.z, kernel);
     let m_tilde: Vec<f32> = (0..p.r.len())
         .map(|i| p.mass[i] / (TWO_PI * hoop_radius(p.r[i], h)))
         .collect();
     let area: Vec<f32> = m_tilde.iter().zip(&p.rho).map(|(m, rho)| m / rho).collect();
     let field = |conjugate| Field {
         r: &p.r,
-        z: &p.z,
         rho: &p.rho,
         m_tilde: &m_tilde,
         area: &area,
@@ -244,16 +235,15 @@ pub fn kernel_readings(
         conjugate,
         grid: &grid,
         kernel,
-        support,
     };
     let (stepped, corrected) = (field(params.conjugate_gradient), field(false));
     which
         .iter()
         .map(|&i| {
             let mut completeness = area[i] * kernel.w(0.0);
-            for_each_neighbour(&grid, &p.r, &p.z, i, support, |nb| {
-                completeness += area[nb.j] * kernel.w(nb.dist);
-            });
+            for nb in grid.neighbours(i) {
+                completeness += area[nb.j()] * kernel.w(nb.dist);
+            }
             let (l, weight) = stepped.gradient(i, &p.vr, &p.vz);
             let (lc, _) = corrected.gradient(i, &p.vr, &p.vz);
             KernelReading {

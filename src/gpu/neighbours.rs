@@ -294,16 +294,15 @@ pub(crate) mod tests {
                 })
             })
             .collect();
+        let mut built = CellGrid::default();
+        built.cell = f32::from_bits(info[5]);
+        built.z0 = f32::from_bits(info[6]);
+        built.n_r = info[3];
+        built.n_z = info[4];
+        built.cell_start = gpu.read(&grid.cell_start, cells + 1).unwrap();
+        built.sorted = gpu.read(&grid.sorted, n).unwrap();
         Built {
-            grid: CellGrid {
-                cell: f32::from_bits(info[5]),
-                z0: f32::from_bits(info[6]),
-                n_r: info[3],
-                n_z: info[4],
-                cell_start: gpu.read(&grid.cell_start, cells + 1).unwrap(),
-                sorted: gpu.read(&grid.sorted, n).unwrap(),
-                cell_of: Vec::new(),
-            },
+            grid: built,
             overflow: info[INFO_OVERFLOW],
             lists,
         }
@@ -320,7 +319,7 @@ pub(crate) mod tests {
         let p = &sim.particles;
         let support = crate::cpu::integrate::support(&sph);
         let mut cpu = CellGrid::default();
-        crate::cpu::neighbours::run(&mut cpu, &p.r, &p.z, support);
+        crate::cpu::neighbours::run(&mut cpu, &p.r, &p.z, &sph.kernel);
         let built = gpu_build(p, &sph, capacity(&p.r, &p.z, support));
         let g = &built.grid;
         assert_eq!((g.n_r, g.n_z, built.overflow), (cpu.n_r, cpu.n_z, 0));

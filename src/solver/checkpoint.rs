@@ -365,8 +365,7 @@ impl Restart {
         // The grid of the positions as they stand, as the last step left it.
         if let Some(sph) = &model.sph {
             let p = &model.particles;
-            let support = crate::cpu::integrate::support(sph);
-            crate::cpu::neighbours::run(&mut model.grid, &p.r, &p.z, support);
+            crate::cpu::neighbours::run(&mut model.grid, &p.r, &p.z, &sph.kernel);
         }
         Ok(())
     }

@@ -123,7 +123,7 @@ impl Model {
             let (p, n, sph) = (&mut self.particles, &mut self.projectile, self.sph.as_ref());
             match (pass, sph) {
                 (Pass::Neighbours, Some(sph)) => {
-                    cpu::neighbours::run(&mut self.grid, &p.r, &p.z, cpu::integrate::support(sph))
+                    cpu::neighbours::run(&mut self.grid, &p.r, &p.z, &sph.kernel)
                 }
                 (Pass::SphRates, Some(sph)) => cpu::sph_rates::run(p, &self.grid, sph),
                 (Pass::Concrete, Some(sph)) => cpu::concrete::run(p, sph, dt),
