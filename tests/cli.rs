@@ -1,5 +1,5 @@
 //! What `penetrate run` says at its start: where `--backend auto` runs and why, and whether the
-//! scene lies inside the validated scope.
+//! scene lies inside the validated scope; and what the commands' help lists.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -136,4 +136,31 @@ fn a_penetration_cut_short_says_its_depth_is_not_final() {
         .unwrap_or_else(|| panic!("{text}"));
     assert!((250.0..300.0).contains(&speed), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `validate --help` names every section `--only` takes.
+#[test]
+fn validate_help_names_every_section() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penetrate"))
+        .args(["validate", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&out.stdout).into_owned();
+    let listed: Vec<&str> = help
+        .lines()
+        .find(|l| l.contains("--only"))
+        .and_then(|l| l.split_once("(comma-separated):"))
+        .map(|(_, list)| {
+            list.split(',')
+                .map(|s| s.trim().trim_end_matches('.'))
+                .collect()
+        })
+        .unwrap_or_default();
+    for section in penetrate::studies::validate::Section::ALL {
+        assert!(
+            listed.contains(&section.name()),
+            "validate --help does not name `{}` in --only's list {listed:?}",
+            section.name()
+        );
+    }
 }

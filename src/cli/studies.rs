@@ -129,8 +129,8 @@ pub struct ValidateArgs {
     /// numbers are not validation.
     #[arg(long)]
     quick: bool,
-    /// Only these sections (comma-separated): taylor, forrestal, target-size, convergence,
-    /// rigid-vs-elastic, deformation, shell.
+    /// Only these sections (comma-separated): taylor, forrestal, crh3-rods, target-size,
+    /// convergence, rigid-vs-elastic, deformation, shell, nose-lining, tension.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
     /// Output directory: report.md, and per section its CSV, plots and runs.
