@@ -64,11 +64,17 @@ impl Kernel {
     /// ∇_i W(x_i − x_j) for the separation (dr, dz) = x_i − x_j at distance `dist`.
     #[inline]
     pub fn grad(&self, dr: f32, dz: f32, dist: f32) -> [f32; 2] {
-        if dist <= 1.0e-12 * self.h {
+        if self.coincident(dist) {
             return [0.0, 0.0];
         }
         let f = self.dw(dist) / dist;
         [f * dr, f * dz]
+    }
+
+    /// Two particles this close have no direction between them: no gradient.
+    #[inline]
+    pub fn coincident(&self, dist: f32) -> bool {
+        dist <= 1.0e-12 * self.h
     }
 }
 

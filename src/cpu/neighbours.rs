@@ -47,7 +47,7 @@ pub struct Pair {
     pub dr: f32,
     pub dz: f32,
     pub dist: f32,
-    /// `dW/d|x| / |x|`, 0 for coincident particles (`Kernel::grad`).
+    /// `dW/d|x| / |x|`, 0 for coincident particles (`Kernel::coincident`).
     df: f32,
 }
 
@@ -65,7 +65,8 @@ impl Pair {
         self.j_mirror & MIRROR != 0
     }
 
-    /// ∇_i W_ij, the same bits as `Kernel::grad(dr, dz, dist)`.
+    /// ∇_i W_ij, the same bits as `Kernel::grad(dr, dz, dist)` (but for the sign of a zero
+    /// between coincident particles).
     #[inline]
     pub fn grad(&self) -> [f32; 2] {
         [self.df * self.dr, self.df * self.dz]
@@ -81,6 +82,15 @@ pub(crate) const REACH: u32 = 2;
 pub(crate) const MAX_CELLS_PER_AXIS: u32 = 1 << 14;
 
 impl CellGrid {
+    /// The neighbours and axis ghosts of particle i within the kernel's support, at the
+    /// positions `run` binned.
+    #[inline]
+    pub fn neighbours(&self, i: usize) -> &[Pair] {
+        let chunk = &self.chunks[i / PAIR_CHUNK];
+        let k = i % PAIR_CHUNK;
+        &chunk.pairs[chunk.start[k] as usize..chunk.start[k + 1] as usize]
+    }
+
     fn index(&self, r: f32, z: f32) -> (u32, u32) {
         let ir = ((r / self.cell).max(0.0) as u32).min(self.n_r - 1);
         let iz = (((z - self.z0) / self.cell).max(0.0) as u32).min(self.n_z - 1);
@@ -107,17 +117,6 @@ impl CellGrid {
     }
 }
 
-impl CellGrid {
-    /// The neighbours and axis ghosts of particle i within the kernel's support, at the
-    /// positions `run` binned.
-    #[inline]
-    pub fn neighbours(&self, i: usize) -> &[Pair] {
-        let chunk = &self.chunks[i / PAIR_CHUNK];
-        let k = i % PAIR_CHUNK;
-        &chunk.pairs[chunk.start[k] as usize..chunk.start[k + 1] as usize]
-    }
-}
-
 /// Rebuild the grid and the neighbour list for the current positions.
 pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], kernel: &Kernel) {
     let support = kernel.support();
@@ -127,7 +126,6 @@ pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], kernel: &Kernel) {
     grid.chunks.resize_with(chunks, PairChunk::default);
     let mut chunk_list = std::mem::take(&mut grid.chunks);
     let g = &*grid;
-    let tiny = 1.0e-12 * kernel.h;
     chunk_list
         .par_iter_mut()
         .enumerate()
@@ -142,7 +140,7 @@ pub fn run(grid: &mut CellGrid, r: &[f32], z: &[f32], kernel: &Kernel) {
                         dr: nb.dr,
                         dz: nb.dz,
                         dist: nb.dist,
-                        df: if nb.dist <= tiny {
+                        df: if kernel.coincident(nb.dist) {
                             0.0
                         } else {
                             kernel.dw(nb.dist) / nb.dist
