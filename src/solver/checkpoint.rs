@@ -362,11 +362,8 @@ impl Restart {
         model.least_steps();
         model.last_hits = s.last_hits;
         model.account = std::mem::take(&mut s.account);
-        // The grid of the positions as they stand, as the last step left it.
-        if let Some(sph) = &model.sph {
-            let p = &model.particles;
-            crate::cpu::neighbours::run(&mut model.grid, &p.r, &p.z, &sph.kernel);
-        }
+        // No neighbour grid: the CPU step builds its own before the gathers read it, and the
+        // GPU never reads the host's.
         Ok(())
     }
 
