@@ -7,11 +7,15 @@
 //! band of the surface and it is not behind it. For each such particle: where along the nose
 //! it sits, the nose's normal velocity there, its pressure, and [`KernelReading`] — the kernel
 //! completeness and the volumetric rate as the step takes it and as a first-order consistent
-//! (corrected) gradient gives it from the same velocities.
+//! (corrected) gradient gives it from the same velocities; and the pair forces' push toward the
+//! nose with the artificial viscosity's part of it, so the load the contact carries onto the
+//! nose can be told apart into the concrete's stress and the viscosity.
 
+use crate::cpu::neighbours::CellGrid;
 use crate::cpu::sph_rates::{kernel_readings, KernelReading};
 use crate::scene::Scene;
 use crate::solver::{Model, RunError, Simulation};
+use crate::state::{Particles, SphParams};
 
 /// One lining particle at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,6 +31,12 @@ pub struct Lining {
     /// Pressure (Pa).
     pub pressure: f32,
     pub kernel: KernelReading,
+    /// The pair forces' push on its ring toward the nose, `−F·n` with n the nose's outward
+    /// normal at the nearest point (N): for a particle the contact holds off the surface, what
+    /// the contact passes on to the nose.
+    pub push: f32,
+    /// The artificial viscosity's part of `push` (N).
+    pub viscous_push: f32,
 }
 
 /// The particles lining the nose of `model` within `band` smoothing lengths of its surface.
@@ -48,13 +58,15 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
     let p = &model.particles;
     let mut found = Vec::new();
     let mut which = Vec::new();
+    let mut normals = Vec::new();
     for i in 0..p.r.len() {
         let (r, z) = (p.r[i], p.z[i]);
         if z < tip - reach || z > shoulder + reach || r > shank_radius + reach {
             continue;
         }
-        // The nearest point on the nose: (distance², signed distance, foot's z, normal speed).
-        let mut best: Option<(f32, f32, f32, f32)> = None;
+        // The nearest point on the nose: (distance², signed distance, foot's z, normal speed,
+        // outward normal).
+        let mut best: Option<(f32, f32, f32, f32, [f32; 2])> = None;
         for &(a, b) in &nose {
             let (dr, dz) = (n.r[b] - n.r[a], n.z[b] - n.z[a]);
             let len2 = dr * dr + dz * dz;
@@ -73,9 +85,9 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
             let vr = n.vr[a] + t * (n.vr[b] - n.vr[a]);
             let vz = n.vz[a] + t * (n.vz[b] - n.vz[a]);
             let signed = (r - fr) * nr + (z - fz) * nz;
-            best = Some((d2, signed, fz, vr * nr + vz * nz));
+            best = Some((d2, signed, fz, vr * nr + vz * nz, [nr, nz]));
         }
-        let Some((d2, signed, foot_z, normal_velocity)) = best else {
+        let Some((d2, signed, foot_z, normal_velocity, normal)) = best else {
             continue;
         };
         // Not behind the surface by more than a contact's tolerance, and within the band.
@@ -83,6 +95,7 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
             continue;
         }
         which.push(i);
+        normals.push(normal);
         found.push(Lining {
             along: (foot_z - tip) / (shoulder - tip).max(f32::MIN_POSITIVE),
             radius_ratio: r / shank_radius,
@@ -94,12 +107,39 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
                 divergence: 0.0,
                 divergence_corrected: 0.0,
             },
+            push: 0.0,
+            viscous_push: 0.0,
         });
     }
     for (l, k) in found.iter_mut().zip(kernel_readings(p, sph, &which)) {
         l.kernel = k;
     }
+    let (with, without) = pair_forces(p, sph);
+    for ((l, &i), n) in found.iter_mut().zip(&which).zip(&normals) {
+        let push = |a: &Particles| -p.mass[i] * (a.ar[i] * n[0] + a.az[i] * n[1]);
+        l.push = push(&with);
+        l.viscous_push = l.push - push(&without);
+    }
     found
+}
+
+/// The particles with `sph_forces`' accelerations at their present positions, with the
+/// artificial viscosity and without it (α = β = 0, everything else the same): their difference
+/// is the viscosity's part, the pair sums being otherwise the same terms in the same order.
+fn pair_forces(p: &Particles, sph: &SphParams) -> (Particles, Particles) {
+    let mut grid = CellGrid::default();
+    crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
+    let forces = |params: &SphParams| {
+        let mut q = p.clone();
+        crate::cpu::sph_forces::run(&mut q, &grid, params);
+        q
+    };
+    let dry = SphParams {
+        alpha: 0.0,
+        beta: 0.0,
+        ..*sph
+    };
+    (forces(sph), forces(&dry))
 }
 
 /// Runs `scene` on the CPU path and reads the lining at each of `times` (s, ascending) once the
@@ -325,6 +365,28 @@ mod tests {
         }
         let tip = s.lining.iter().filter(|l| l.along < 0.2);
         assert!(tip.clone().count() > 0 && tip.clone().all(|l| l.normal_velocity > 0.0));
+    }
+
+    /// The first row's push toward the nose: the concrete presses on the nose, the viscosity
+    /// has a part in it while the nose drives the concrete aside, and none once it is off.
+    #[test]
+    fn the_viscosity_has_its_part_of_the_push() {
+        let first_row = |extra: &[&str]| {
+            let s = study(&coarse(extra), &[1.5e-4], 1.0).unwrap().remove(0);
+            let row: Vec<_> = s.lining.into_iter().filter(|l| l.distance < 0.5).collect();
+            assert!(!row.is_empty());
+            row
+        };
+        let on = first_row(&[]);
+        let push: f32 = on.iter().map(|l| l.push).sum();
+        let viscous: f32 = on.iter().map(|l| l.viscous_push).sum();
+        assert!(
+            push > 0.0 && viscous > 0.0,
+            "{push} N, of it viscous {viscous} N"
+        );
+        let off = first_row(&["target.viscosity_alpha=0", "target.viscosity_beta=0"]);
+        assert!(off.iter().all(|l| l.viscous_push == 0.0));
+        assert!(off.iter().map(|l| l.push).sum::<f32>() > 0.0);
     }
 
     /// The segments' normal impulses are the contact's: their axial parts add up to the nose's

@@ -3,7 +3,8 @@
 //! the pressure, along the nose; and the contact's normal pressure on the nose by bands of
 //! radius against the local law behind Forrestal's equation. Measurements (does the cut kernel
 //! under-read a slender nose's compaction; is the tip near the axis overloaded); no accuracy
-//! target.
+//! target. The first row's push toward the nose is split into the stress's and the artificial
+//! viscosity's.
 
 use crate::output::plot::{Chart, Mark};
 use crate::studies::lining::{band_pressures, study, BandPressure, Lining, Snapshot};
@@ -17,6 +18,9 @@ use super::{Section, ValidateError};
 const NOSES: [f64; 2] = [2.0, 6.0];
 /// The lining: particles within this many smoothing lengths of the nose's surface.
 const BAND: f32 = 1.0;
+/// The first row: lining particles within this many smoothing lengths of the surface, those
+/// the contact holds off it, whose push toward the nose is the load it passes on.
+const FIRST_ROW: f32 = 0.5;
 /// Bins along the nose, tip to shoulder.
 const BINS: usize = 5;
 /// Bands of the nose by r/a for its contact pressure; the first is the axis band.
@@ -83,6 +87,8 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
                     l.kernel.completeness.to_string(),
                     l.kernel.divergence.to_string(),
                     l.kernel.divergence_corrected.to_string(),
+                    l.push.to_string(),
+                    l.viscous_push.to_string(),
                 ]);
             }
         }
@@ -102,6 +108,8 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             "completeness",
             "divergence_1_s",
             "divergence_corrected_1_s",
+            "push_n",
+            "viscous_push_n",
         ],
         &rows,
     )?;
@@ -177,6 +185,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
                 or_dash(bin.divergence, |d| format!("{:.2}", d * 1e-3)),
                 or_dash(bin.divergence_corrected, |d| format!("{:.2}", d * 1e-3)),
                 or_dash(bin.pressure, |p| format!("{:.0}", p * 1e-6)),
+                or_dash(bin.viscous_share, |x| format!("{:.0} %", 100.0 * x)),
             ]);
         }
     }
@@ -187,7 +196,11 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
          velocity, the kernel completeness `Σ (m̃/ρ) W` (1 in the bulk, ½–¾ at a free face; above 1 where the particles are packed tighter than their density says), the \
          volumetric rate `−ρ̇/ρ` as the step takes it and as a first-order consistent gradient \
          (`G M⁻¹`, full hoop rate) reads it from the same velocities (medians: a few particles \
-         at the axis read rates ten times the others'), and the mean pressure. Raw data: {csv}.\n\n",
+         at the axis read rates ten times the others'), the mean pressure, and the artificial \
+         viscosity's share of the push toward the nose on the first row (within {FIRST_ROW} h \
+         of the surface: the particles the contact holds off it, whose push it passes on to the \
+         nose; the pair forces at the same instant with and without the viscosity, Σ over the \
+         row's readings). Raw data: {csv}.\n\n",
         if ctx.settings.quick {
             " with the quick overrides"
         } else {
@@ -209,9 +222,20 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             "−ρ̇/ρ as stepped (1/ms)",
             "corrected (1/ms)",
             "pressure (MPa)",
+            "viscous share of the push",
         ],
         &table_rows,
     );
+    for (crh, snapshots) in &readings {
+        if let Some(share) = viscous_share(snapshots.iter().flat_map(|s| &s.lining)) {
+            md += &format!(
+                "\nCRH {crh}, the whole nose: the viscosity carries {:.0} % of the first row's \
+                 push toward the nose.\n",
+                100.0 * share
+            );
+        }
+    }
+    md += "\n";
     md += &completeness;
     md += &rate;
     md += &pressure;
@@ -232,6 +256,19 @@ struct Bin {
     divergence: Option<f64>,
     divergence_corrected: Option<f64>,
     pressure: Option<f64>,
+    /// The viscosity's share of the first row's push toward the nose.
+    viscous_share: Option<f64>,
+}
+
+/// The artificial viscosity's share of the first row's push toward the nose, over `lining`;
+/// none where the row does not push.
+fn viscous_share<'a>(lining: impl Iterator<Item = &'a Lining>) -> Option<f64> {
+    let (push, viscous) = lining
+        .filter(|l| l.distance <= FIRST_ROW)
+        .fold((0.0, 0.0), |(p, v), l| {
+            (p + l.push as f64, v + l.viscous_push as f64)
+        });
+    (push > 0.0).then(|| viscous / push)
 }
 
 fn bins(snapshots: &[Snapshot]) -> Vec<Bin> {
@@ -266,6 +303,7 @@ fn bins(snapshots: &[Snapshot]) -> Vec<Bin> {
                 divergence: median(&|l| l.kernel.divergence),
                 divergence_corrected: median(&|l| l.kernel.divergence_corrected),
                 pressure: mean(&|l| l.pressure),
+                viscous_share: viscous_share(inside.iter().copied()),
             }
         })
         .collect()
