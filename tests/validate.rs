@@ -145,6 +145,18 @@ fn quick_validation_writes_every_section() {
         shell.iter().filter(|l| has(l, "bisection")).count() == 1,
         "{shell:?}"
     );
+    // The projectile's plastic work is a part of its striking energy.
+    let (header, _) = common::csv_file(&out.join("shell/shell.csv"));
+    let share = header
+        .iter()
+        .position(|h| h == "plastic_work_share")
+        .unwrap();
+    assert!(
+        shell.iter().all(|l| l[share]
+            .parse::<f64>()
+            .is_ok_and(|x| (0.0..1.0).contains(&x))),
+        "{shell:?}"
+    );
     assert!(
         report.contains("**critical velocity ≈"),
         "no critical velocity found"

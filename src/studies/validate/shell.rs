@@ -46,6 +46,14 @@ fn yes_no(b: bool) -> String {
     if b { "yes" } else { "no" }.into()
 }
 
+/// The share of the striking kinetic energy the projectile took as plastic work: a shell whose
+/// depth stops growing with its speed has to take a growing share.
+fn plastic_share(r: &RunRecord) -> Option<f64> {
+    r.summary()
+        .filter(|s| s.energy.initial_kinetic > 0.0)
+        .map(|s| s.energy.plastic_work_projectile / s.energy.initial_kinetic)
+}
+
 fn speed(r: &RunRecord) -> f64 {
     r.scene.projectile.velocity
 }
@@ -168,6 +176,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             or_dash(s, |s| s.max_plastic_strain.to_string()),
             or_dash(s, |s| s.max_plastic_strain_shank.to_string()),
             or_dash(s, |s| s.final_length_m.to_string()),
+            or_dash(plastic_share(r), |x| x.to_string()),
             or_dash(s, |s| s.steps.to_string()),
             or_dash(s, |s| s.wall_s.to_string()),
             ctx.rel(&r.dir),
@@ -181,6 +190,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             or_dash(damaged(r), yes_no),
             or_dash(failed(r), yes_no),
             or_dash(s, |s| format!("{:.3}", s.max_plastic_strain_shank)),
+            or_dash(plastic_share(r), |x| format!("{:.2} %", 100.0 * x)),
             or_dash(s, |s| format!("{:.1}", s.wall_s)),
             r.status().to_string(),
         ]);
@@ -200,6 +210,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             "max_plastic_strain",
             "max_plastic_strain_shank",
             "final_length_m",
+            "plastic_work_share",
             "steps",
             "wall_s",
             "dir",
@@ -374,6 +385,24 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             )
         }),
     };
+    // The energy the shell took: the paper's loss of efficiency needs a growing share of it.
+    let shares: Vec<(f64, f64)> = all
+        .iter()
+        .filter_map(|(_, r)| Some((speed(r), plastic_share(r)?)))
+        .collect();
+    let absorbed = match shares
+        .iter()
+        .copied()
+        .reduce(|a, b| if b.1 > a.1 { b } else { a })
+    {
+        Some((v, x)) => format!(
+            " The projectile's plastic work took at most {:.2} % of the striking kinetic energy \
+             (at {v} m/s); a depth that stops growing with the speed needs the shell to take a \
+             growing share of it.",
+            100.0 * x
+        ),
+        None => String::new(),
+    };
     let mut md = format!(
         "`cases/{SHELL_FILE}`{}: the Forrestal outline hollowed to a {:.2} mm wall (cavity \
          {:.1} mm across), {:.3} kg, material preset `{}`, into {:.1} MPa concrete, on {}. \
@@ -382,7 +411,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
          a run counts as damaged when that damage is above 0 (damage has appeared in the wall, \
          physics.md §8; the Johnson–Cook damage grows from the first plastic strain; a run that \
          stopped early counts by the damage it reached); the bisection stops \
-         when the bracket is at most {tolerance} m/s wide. Result: {critical}{failure}{efficiency} \
+         when the bracket is at most {tolerance} m/s wide. Result: {critical}{failure}{efficiency}{absorbed} \
          (The paper finds ≈ 250 m/s for its shell and concrete: no damage at 250 m/s, damage \
          at 300 m/s.) Raw data: {csv}, {area_csv}.\n\n",
         if ctx.settings.quick {
@@ -417,6 +446,7 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             "wall damaged",
             "wall failed",
             "plastic strain behind the nose",
+            "plastic work / striking energy",
             "wall (s)",
             "status",
         ],
