@@ -431,5 +431,12 @@ fn bench_splits_the_gpu_step_on_the_host() {
         gpu_row.ms_per_step
     );
     assert!(rows[1].host_us.is_none());
+    // Building the lists adds the grid's passes to the step's dispatches.
+    let (plain, building) = gpu_row.dispatches.expect("a GPU row counts its dispatches");
+    assert!(
+        plain > 0 && building > plain as f64,
+        "{plain} and {building}"
+    );
+    assert!(rows[1].dispatches.is_none());
     assert!(bench::table(&rows).contains(" / "));
 }

@@ -128,8 +128,9 @@ pub struct Gpu {
     errors: Arc<Mutex<Vec<String>>>,
     /// Bytes of buffers created through `buffer`, `zeros` and `uniform`.
     allocated: std::sync::atomic::AtomicU64,
-    /// Waits, bytes read back and bytes written so far (`traffic`).
-    pub traffic: traffic::Counters,
+    /// Waits, bytes read back, bytes written and dispatches so far (`traffic`); shared with
+    /// the kernels, which count their dispatches.
+    pub traffic: Arc<traffic::Counters>,
 }
 
 /// How a shader binding is used.
@@ -146,6 +147,7 @@ pub struct Kernel {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bindings: Vec<shader::Binding>,
+    counters: Arc<traffic::Counters>,
 }
 
 impl Gpu {
@@ -517,6 +519,7 @@ impl Gpu {
             pipeline,
             layout,
             bindings,
+            counters: self.traffic.clone(),
         })
     }
 }
@@ -570,9 +573,7 @@ impl Kernel {
         if items == 0 {
             return;
         }
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind, &[]);
-        pass.dispatch_workgroups(items.div_ceil(WORKGROUP), 1, 1);
+        self.dispatch_groups(pass, bind, items.div_ceil(WORKGROUP));
     }
 
     /// Record a reduction over `items`: each thread folds `FOLD` items (strided by the whole
@@ -596,6 +597,7 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind, &[]);
         pass.dispatch_workgroups(groups, 1, 1);
+        self.counters.dispatched();
     }
 }
 

@@ -397,6 +397,11 @@ impl GpuStep {
         Ok(start.elapsed().as_secs_f64() / n.max(1) as f64)
     }
 
+    /// Compute dispatches this device has recorded so far (`bench`).
+    pub fn dispatches(&self) -> u64 {
+        self.gpu.traffic.now().dispatches
+    }
+
     /// Bytes of GPU buffers this step allocated.
     pub fn gpu_bytes(&self) -> u64 {
         self.gpu.allocated()

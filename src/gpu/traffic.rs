@@ -1,5 +1,6 @@
 //! What crosses between the host and the GPU, counted: blocking waits (each a round trip: submit,
-//! wait, map), bytes read back and bytes written. `Gpu` counts every transfer it makes; the GPU
+//! wait, map), bytes read back and bytes written; and the compute dispatches recorded, each a
+//! pass the GPU finishes before the next may start. `Gpu` counts every transfer it makes; the GPU
 //! step charges them to what asked for them (a step, a history row, a full read for a frame or
 //! the summary), and `summary.json` reports the tallies (`gpu_transfers`, performance.md).
 
@@ -13,6 +14,7 @@ pub struct Counters {
     waits: AtomicU64,
     read: AtomicU64,
     written: AtomicU64,
+    dispatches: AtomicU64,
 }
 
 impl Counters {
@@ -28,6 +30,10 @@ impl Counters {
         self.written.fetch_add(bytes, Ordering::Relaxed);
     }
 
+    pub fn dispatched(&self) {
+        self.dispatches.fetch_add(1, Ordering::Relaxed);
+    }
+
     /// The counts so far, as a tally of no calls.
     pub fn now(&self) -> Tally {
         Tally {
@@ -35,6 +41,7 @@ impl Counters {
             waits: self.waits.load(Ordering::Relaxed),
             read_bytes: self.read.load(Ordering::Relaxed),
             written_bytes: self.written.load(Ordering::Relaxed),
+            dispatches: self.dispatches.load(Ordering::Relaxed),
         }
     }
 }
@@ -47,6 +54,9 @@ pub struct Tally {
     pub waits: u64,
     pub read_bytes: u64,
     pub written_bytes: u64,
+    /// Compute dispatches recorded (0 in summaries written before they were counted).
+    #[serde(default)]
+    pub dispatches: u64,
 }
 
 impl Tally {
@@ -57,6 +67,7 @@ impl Tally {
             waits: after.waits - before.waits,
             read_bytes: after.read_bytes - before.read_bytes,
             written_bytes: after.written_bytes - before.written_bytes,
+            dispatches: after.dispatches - before.dispatches,
         }
     }
 
@@ -64,6 +75,7 @@ impl Tally {
         self.waits += d.waits;
         self.read_bytes += d.read_bytes;
         self.written_bytes += d.written_bytes;
+        self.dispatches += d.dispatches;
     }
 }
 

@@ -33,6 +33,9 @@ pub struct BenchRow {
     /// submitting them, waiting for the read-back (the GPU's work and the round trip), and the
     /// rest (the contact correction, its writes and the solver's bookkeeping).
     pub host_us: Option<[f64; 4]>,
+    /// Compute dispatches a step records (GPU only): the fewest over the timed steps (a step
+    /// that builds no lists), and the mean of the steps that each build them.
+    pub dispatches: Option<(u64, f64)>,
     /// Why this size did not run on this backend (a limit of the adapter, say).
     pub refused: Option<String>,
 }
@@ -90,6 +93,7 @@ pub fn run(
                         list_builds: None,
                         build_ms: None,
                         host_us: None,
+                        dispatches: None,
                         refused: Some(e.to_string()),
                     });
                     continue;
@@ -116,11 +120,18 @@ pub fn run(
             let builds = |sim: &mut Simulation| sim.gpu_step().map(|g| g.builds);
             let builds_before = builds(&mut sim);
             let host_before = sim.gpu_step().map(|g| g.host);
-            let start = Instant::now();
+            let dispatched = |sim: &mut Simulation| sim.gpu_step().map(|g| g.dispatches());
+            let mut fewest_dispatches: Option<u64> = None;
+            let mut wall = 0.0;
             for _ in 0..timed {
+                let before = dispatched(&mut sim);
+                let start = Instant::now();
                 sim.step().map_err(|e| e.to_string())?;
+                wall += start.elapsed().as_secs_f64();
+                if let (Some(a), Some(b)) = (dispatched(&mut sim), before) {
+                    fewest_dispatches = Some(fewest_dispatches.map_or(a - b, |f| f.min(a - b)));
+                }
             }
-            let wall = start.elapsed().as_secs_f64();
             let host_us = sim
                 .gpu_step()
                 .map(|g| g.host)
@@ -157,12 +168,19 @@ pub fn run(
                 list_builds,
                 build_ms: None,
                 host_us,
+                dispatches: None,
                 refused: None,
             };
             if let Some(g) = sim.gpu_step() {
                 row.bytes_per_particle = Some(g.gpu_bytes() as f64 / particles.max(1) as f64);
                 row.readback_us = Some(g.readback_latency(50).map_err(|e| e.to_string())? * 1e6);
-                row.build_ms = Some(build_cost(&mut sim, row.ms_per_step, timed.min(10))?);
+                let building = timed.min(10);
+                let before = dispatched(&mut sim);
+                row.build_ms = Some(build_cost(&mut sim, row.ms_per_step, building)?);
+                let per_build = dispatched(&mut sim)
+                    .zip(before)
+                    .map(|(a, b)| (a - b) as f64 / building.max(1) as f64);
+                row.dispatches = fewest_dispatches.zip(per_build);
             }
             row.pass_ms = profile(&mut sim, 10)?;
             rows.push(row);
@@ -211,12 +229,12 @@ fn profile(sim: &mut Simulation, steps: usize) -> Result<Vec<(&'static str, f64)
 /// The table as Markdown.
 pub fn table(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build | host µs/step: record / submit / wait / rest |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build | dispatches/step (building lists) | host µs/step: record / submit / wait / rest |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(why) = &r.refused {
             out += &format!(
-                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – | – |\n",
+                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – | – | – |\n",
                 r.backend,
                 r.particles,
                 why.replace('|', "/")
@@ -224,7 +242,7 @@ pub fn table(rows: &[BenchRow]) -> String {
             continue;
         }
         out += &format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} | {} | {} |\n",
             r.backend,
             r.particles,
             r.elements,
@@ -236,6 +254,9 @@ pub fn table(rows: &[BenchRow]) -> String {
                 .map_or("–".into(), |v| format!("{v:.0}")),
             r.list_builds.map_or("–".into(), |v| v.to_string()),
             r.build_ms.map_or("–".into(), |v| format!("{v:.2}")),
+            r.dispatches.map_or("–".into(), |(plain, build)| format!(
+                "{plain} ({build:.1})"
+            )),
             r.host_us.map_or("–".into(), |h| format!(
                 "{:.0} / {:.0} / {:.0} / {:.0}",
                 h[0], h[1], h[2], h[3]
