@@ -37,6 +37,14 @@
 @group(0) @binding(10) var<storage, read_write> kin: array<vec4<f32>>;
 // Each particle's position when the lists were last built (written by `count`).
 @group(0) @binding(11) var<storage, read_write> x_build: array<vec2<f32>>;
+@group(0) @binding(12) var<storage, read> mass: array<f32>;
+@group(0) @binding(13) var<storage, read> rho: array<f32>;
+// Written by `pack` for the gathers: the per-radian mass m̃ = m/(2π r) and the planar area m̃/ρ.
+@group(0) @binding(14) var<storage, read_write> m_tilde: array<f32>;
+@group(0) @binding(15) var<storage, read_write> area: array<f32>;
+
+// 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
+const TWO_PI: f32 = 2.0 * PI;
 
 // GridInfo of grid.wgsl with atomic bound keys (the build's view of the same buffer).
 struct GridBuild {
@@ -144,7 +152,8 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
     x_build[i] = vec2<f32>(r[i], z[i]);
 }
 
-// Every step, before the gathers: the packed kinematics, and the displacement watch reset.
+// Every step, before the gathers: the packed kinematics and the areas (cpu::sph_rates::run's
+// first loop), and the displacement watch reset.
 @compute @workgroup_size(WG)
 fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -153,6 +162,9 @@ fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if (i >= u.n) { return; }
     kin[i] = vec4<f32>(r[i], z[i], vr[i], vz[i]);
+    let mt = mass[i] / (TWO_PI * hoop_radius(r[i], u.kernel.h));
+    m_tilde[i] = mt;
+    area[i] = mt / rho[i];
 }
 
 // After the integration: the largest squared displacement since the lists were built (each

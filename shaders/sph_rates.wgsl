@@ -5,41 +5,27 @@
 // L is the conjugate gradient (1/ρ_i) Σ m̃_j (v_j − v_i) ⊗ ∇W, uncorrected, and the hoop rate
 // n_i v_r/r (sph_rates.rs). Both modes write the hoop weight
 // n_i = Σ m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i, which sph_forces and concrete read.
-// Two entry points over one binding list: `areas` (m̃ and m̃/ρ per particle), then `gradient`.
+// m̃ and m̃/ρ are the neighbours pass's (`pack`, this step's positions).
 // Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
 
-@group(0) @binding(7) var<storage, read> mass: array<f32>;
-@group(0) @binding(8) var<storage, read> rho: array<f32>;
-@group(0) @binding(9) var<storage, read> sound: array<f32>;
-// Written by `areas`, read by `gradient`.
-@group(0) @binding(10) var<storage, read_write> m_tilde: array<f32>;
-@group(0) @binding(11) var<storage, read_write> area: array<f32>;
-@group(0) @binding(12) var<storage, read_write> l_rr: array<f32>;
-@group(0) @binding(13) var<storage, read_write> l_rz: array<f32>;
-@group(0) @binding(14) var<storage, read_write> l_zr: array<f32>;
-@group(0) @binding(15) var<storage, read_write> l_zz: array<f32>;
-@group(0) @binding(16) var<storage, read_write> drho: array<f32>;
-@group(0) @binding(17) var<storage, read_write> visc_switch: array<f32>;
-@group(0) @binding(18) var<storage, read_write> hoop_weight: array<f32>;
+@group(0) @binding(7) var<storage, read> rho: array<f32>;
+@group(0) @binding(8) var<storage, read> sound: array<f32>;
+@group(0) @binding(9) var<storage, read> m_tilde: array<f32>;
+@group(0) @binding(10) var<storage, read> area: array<f32>;
+@group(0) @binding(11) var<storage, read_write> l_rr: array<f32>;
+@group(0) @binding(12) var<storage, read_write> l_rz: array<f32>;
+@group(0) @binding(13) var<storage, read_write> l_zr: array<f32>;
+@group(0) @binding(14) var<storage, read_write> l_zz: array<f32>;
+@group(0) @binding(15) var<storage, read_write> drho: array<f32>;
+@group(0) @binding(16) var<storage, read_write> visc_switch: array<f32>;
+@group(0) @binding(17) var<storage, read_write> hoop_weight: array<f32>;
 
 // The Balsara switch is on (SphParams::balsara): a pipeline constant, as ART_STRESS in
 // sph_forces.wgsl. Off, visc_switch keeps the 1 it was uploaded with.
 override BALSARA: bool;
 // target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
 override CONJUGATE: bool;
-
-// 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
-const TWO_PI: f32 = 2.0 * PI;
-
-@compute @workgroup_size(WG)
-fn areas(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if (i >= u.n) { return; }
-    let mt = mass[i] / (TWO_PI * hoop_radius(kin[i].x, u.kernel.h));
-    m_tilde[i] = mt;
-    area[i] = mt / rho[i];
-}
 
 // G = Σ (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇W and M = Σ (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇W, row-major
 // (rr, rz, zr, zz).

@@ -152,6 +152,10 @@ impl NeighboursPass {
                 ("vz", &particles.vz),
                 ("kin", &grid.kin),
                 ("x_build", &x_build),
+                ("mass", &particles.mass),
+                ("rho", &particles.rho),
+                ("m_tilde", &particles.m_tilde),
+                ("area", &particles.area),
             ],
         )?;
         let pass = NeighboursPass {
@@ -175,8 +179,8 @@ impl NeighboursPass {
         Ok((pass, grid))
     }
 
-    /// Every step, before the gathers: the packed kinematics (and the watch reset), then the
-    /// grid and the lists when `build`.
+    /// Every step, before the gathers: the packed kinematics and the areas m̃ and m̃/ρ (and the
+    /// watch reset), then the grid and the lists when `build`.
     pub fn record(&self, pass: &mut wgpu::ComputePass, build: bool) {
         self.pack.dispatch(pass, &self.bind, self.n);
         if !build {
@@ -260,6 +264,9 @@ pub(crate) mod tests {
         overflow: u32,
         /// Per particle: its listed neighbours as (j, mirror), or None where the list overflowed.
         lists: Vec<Option<Vec<(usize, bool)>>>,
+        /// The areas `pack` wrote, m̃ and m̃/ρ.
+        m_tilde: Vec<f32>,
+        area: Vec<f32>,
     }
 
     /// Build the GPU grid and lists for `particles` (twice, to exercise the reset of the
@@ -270,7 +277,11 @@ pub(crate) mod tests {
         capacity: u32,
     ) -> Built {
         let gpu = test_gpu();
-        let gp = GpuParticles::upload(&gpu, particles);
+        // Poisoned areas, so that what `pack` does not write shows.
+        let mut start = particles.clone();
+        start.m_tilde.fill(f32::NAN);
+        start.area.fill(f32::NAN);
+        let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(sph, gp.len));
         let support = sph.kernel.support();
         let (pass, grid) = NeighboursPass::new(&gpu, &gp, &uniform, capacity, support).unwrap();
@@ -305,6 +316,8 @@ pub(crate) mod tests {
             grid: built,
             overflow: info[INFO_OVERFLOW],
             lists,
+            m_tilde: gpu.read(&gp.m_tilde, n).unwrap(),
+            area: gpu.read(&gp.area, n).unwrap(),
         }
     }
 
@@ -336,6 +349,16 @@ pub(crate) mod tests {
             assert_eq!(list.as_ref(), Some(&want), "particle {i}");
         }
         assert!(ghosts > 0, "the lists hold axis ghosts");
+        // The areas for the gathers, as cpu::sph_rates::run computes them.
+        let mut rates = p.clone();
+        crate::cpu::sph_rates::run(&mut rates, &cpu, &sph);
+        for (name, a, b) in [
+            ("m_tilde", &built.m_tilde, &rates.m_tilde),
+            ("area", &built.area, &rates.area),
+        ] {
+            let e = crate::gpu::concrete::tests::field_error(a, b);
+            assert!(e <= 1.0e-5, "{name}: relative error {e:e}");
+        }
     }
 
     /// With too few cells allocated the grid coarsens, and the 5×5-cell search still finds

@@ -104,7 +104,7 @@ impl Program {
             ],
             Program::NeighbourList => &["list"],
             Program::Scan => &["scan_block", "scan_add"],
-            Program::SphRates => &["areas", "gradient"],
+            Program::SphRates => &["gradient"],
             Program::SphFilter => &["filter_velocity"],
             Program::SphForces => &["prologue", "forces"],
             Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
