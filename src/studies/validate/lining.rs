@@ -402,6 +402,60 @@ fn nose_load(
         ],
         &table_rows,
     );
+    for (crh, bands) in loads {
+        let (tip, rest) = bands.split_at(1.min(bands.len()));
+        let ratio = |b: &[BandPressure]| or_dash(weighted_ratio(b), |x| format!("{x:.2}"));
+        md += &format!(
+            "\nCRH {crh}: the whole nose carries {} times its law, the nose beyond the axis band \
+             {} times, the axis band {} times (bands weighted by their shares of πa²).\n",
+            ratio(bands),
+            ratio(rest),
+            ratio(tip)
+        );
+    }
+    md += "\n";
     md += &plot;
     Ok(md)
+}
+
+/// The simulated pressure over the law's on `bands` taken together, each weighted by its share
+/// of πa² (the axial force each would carry at a uniform normal pressure); none where no band
+/// has both.
+fn weighted_ratio(bands: &[BandPressure]) -> Option<f64> {
+    let (simulated, law) = bands
+        .iter()
+        .filter(|b| b.pressure.is_finite() && b.law.is_finite())
+        .fold((0.0, 0.0), |(s, l), b| {
+            (s + b.share * b.pressure, l + b.share * b.law)
+        });
+    (law > 0.0).then(|| simulated / law)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn band(share: f64, pressure: f64, law: f64) -> BandPressure {
+        BandPressure {
+            lo: 0.0,
+            hi: 1.0,
+            share,
+            pressure,
+            law,
+        }
+    }
+
+    /// Bands that each carry k times their law carry k times it together; a band without a
+    /// segment (NaN) is left out; the shares weight the bands.
+    #[test]
+    fn the_weighted_ratio_weighs_the_bands_by_their_shares() {
+        let k = [band(0.2, 300.0, 100.0), band(0.8, 150.0, 50.0)];
+        assert!((weighted_ratio(&k).unwrap() - 3.0).abs() < 1e-12);
+        let with_empty = [k[0], band(0.0, f64::NAN, f64::NAN), k[1]];
+        assert_eq!(weighted_ratio(&with_empty), weighted_ratio(&k));
+        // 0.5·200 + 0.5·100 over 0.5·100 + 0.5·100.
+        let mixed = [band(0.5, 200.0, 100.0), band(0.5, 100.0, 100.0)];
+        assert!((weighted_ratio(&mixed).unwrap() - 1.5).abs() < 1e-12);
+        assert_eq!(weighted_ratio(&[]), None);
+    }
 }
