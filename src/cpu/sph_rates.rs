@@ -211,17 +211,17 @@ pub struct KernelReading {
     pub divergence_corrected: f32,
 }
 
-/// [`KernelReading`] at the particles `which`, from the current positions and velocities.
+/// [`KernelReading`] at the particles `which`, from the current positions and velocities;
+/// `grid` is the neighbour list of those positions.
 pub fn kernel_readings(
     particles: &Particles,
+    grid: &CellGrid,
     params: &SphParams,
     which: &[usize],
 ) -> Vec<KernelReading> {
     let h = params.h;
     let kernel = &params.kernel;
     let p = particles;
-    let mut grid = CellGrid::default();
-    super::neighbours::run(&mut grid, &p.r, &p.z, kernel);
     let m_tilde: Vec<f32> = (0..p.r.len())
         .map(|i| p.mass[i] / (TWO_PI * hoop_radius(p.r[i], h)))
         .collect();
@@ -233,7 +233,7 @@ pub fn kernel_readings(
         area: &area,
         h,
         conjugate,
-        grid: &grid,
+        grid,
         kernel,
     };
     let (stepped, corrected) = (field(params.conjugate_gradient), field(false));

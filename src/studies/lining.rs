@@ -111,10 +111,12 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
             viscous_push: 0.0,
         });
     }
-    for (l, k) in found.iter_mut().zip(kernel_readings(p, sph, &which)) {
+    let mut grid = CellGrid::default();
+    crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
+    for (l, k) in found.iter_mut().zip(kernel_readings(p, &grid, sph, &which)) {
         l.kernel = k;
     }
-    let (with, without) = pair_forces(p, sph);
+    let (with, without) = pair_forces(p, &grid, sph);
     for ((l, &i), n) in found.iter_mut().zip(&which).zip(&normals) {
         let push = |a: &Particles| -p.mass[i] * (a.ar[i] * n[0] + a.az[i] * n[1]);
         l.push = push(&with);
@@ -126,12 +128,11 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
 /// The particles with `sph_forces`' accelerations at their present positions, with the
 /// artificial viscosity and without it (α = β = 0, everything else the same): their difference
 /// is the viscosity's part, the pair sums being otherwise the same terms in the same order.
-fn pair_forces(p: &Particles, sph: &SphParams) -> (Particles, Particles) {
-    let mut grid = CellGrid::default();
-    crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
+/// `grid` is the neighbour list of the present positions.
+fn pair_forces(p: &Particles, grid: &CellGrid, sph: &SphParams) -> (Particles, Particles) {
     let forces = |params: &SphParams| {
         let mut q = p.clone();
-        crate::cpu::sph_forces::run(&mut q, &grid, params);
+        crate::cpu::sph_forces::run(&mut q, grid, params);
         q
     };
     let dry = SphParams {
@@ -336,7 +337,9 @@ mod tests {
             p.vr[i] = a * p.r[i];
             p.vz[i] = b * p.z[i];
         }
-        let k = kernel_readings(p, &sph, &[inside, face]);
+        let mut grid = CellGrid::default();
+        crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
+        let k = kernel_readings(p, &grid, &sph, &[inside, face]);
         assert!((k[0].completeness - 1.0).abs() < 0.05, "{:?}", k[0]);
         assert!((0.5..0.8).contains(&k[1].completeness), "{:?}", k[1]);
         let div = 2.0 * a + b;
