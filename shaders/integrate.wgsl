@@ -1,27 +1,43 @@
 // `integrate` (CPU twin: src/cpu/integrate.rs): leapfrog velocities then positions, the axis
-// constraint, the rigid wall, instability flags, and the stable time step as a min-reduction.
+// constraint, the rigid wall, instability flags; particles and nodes in one dispatch (thread i
+// takes particle i and node i). It also ends the Δt reduction (timestep.wgsl): every thread
+// takes the step from the running minima the fold filled, thread 0 stores it in the clock and
+// empties the other slot for the next step's fold; and it folds the particles' largest squared
+// displacement since the neighbour lists were built into the grid's moved2 (reset by `pack`).
 // Needs params.wgsl and step.wgsl.
 
 @group(0) @binding(0) var<uniform> u: StepUniform;
 @group(0) @binding(1) var<storage, read_write> clock: ClockAtomic;
 @group(0) @binding(2) var<storage, read_write> status: array<atomic<u32>>;
-@group(0) @binding(3) var<storage, read_write> r: array<f32>;
-@group(0) @binding(4) var<storage, read_write> z: array<f32>;
-@group(0) @binding(5) var<storage, read_write> vr: array<f32>;
-@group(0) @binding(6) var<storage, read_write> vz: array<f32>;
-// Particles: ar, az (accelerations); nodes: fr, fz (forces).
-@group(0) @binding(7) var<storage, read> ar: array<f32>;
-@group(0) @binding(8) var<storage, read> az: array<f32>;
-@group(0) @binding(9) var<storage, read> mass: array<f32>;
-// Particles: `fixed`; nodes: `on_axis`.
-@group(0) @binding(10) var<storage, read> flag: array<u32>;
-// Running z-impulse of the boundary on the model (N s), per entity; nodes also accumulate the
-// kinetic energy the wall took (J) in `lost`.
-@group(0) @binding(11) var<storage, read_write> impulse: array<f32>;
-@group(0) @binding(12) var<storage, read_write> lost: array<f32>;
-// Particles only: sph_forces' work-conjugate energy rate, and the energy it books into.
+@group(0) @binding(3) var<uniform> source: DtSlot;
+@group(0) @binding(4) var<storage, read_write> r: array<f32>;
+@group(0) @binding(5) var<storage, read_write> z: array<f32>;
+@group(0) @binding(6) var<storage, read_write> vr: array<f32>;
+@group(0) @binding(7) var<storage, read_write> vz: array<f32>;
+@group(0) @binding(8) var<storage, read> ar: array<f32>;
+@group(0) @binding(9) var<storage, read> az: array<f32>;
+@group(0) @binding(10) var<storage, read> mass: array<f32>;
+@group(0) @binding(11) var<storage, read> fixed: array<u32>;
+// Running z-impulse of the fixed particles on the rest (N s), per particle.
+@group(0) @binding(12) var<storage, read_write> impulse: array<f32>;
+// sph_forces' work-conjugate energy rate, and the energy it books into.
 @group(0) @binding(13) var<storage, read> de_work: array<f32>;
 @group(0) @binding(14) var<storage, read_write> energy: array<f32>;
+// Positions at the last list build, and the grid's words (moved2 at MOVED2_WORD).
+@group(0) @binding(15) var<storage, read> x_build: array<vec2<f32>>;
+@group(0) @binding(16) var<storage, read_write> grid_words: array<atomic<u32>>;
+// The nodes: forces fr, fz; on_axis; the wall's z-impulse (N s) and the kinetic energy it
+// took (J), per node.
+@group(0) @binding(17) var<storage, read_write> node_r: array<f32>;
+@group(0) @binding(18) var<storage, read_write> node_z: array<f32>;
+@group(0) @binding(19) var<storage, read_write> node_vr: array<f32>;
+@group(0) @binding(20) var<storage, read_write> node_vz: array<f32>;
+@group(0) @binding(21) var<storage, read> node_fr: array<f32>;
+@group(0) @binding(22) var<storage, read> node_fz: array<f32>;
+@group(0) @binding(23) var<storage, read> node_mass: array<f32>;
+@group(0) @binding(24) var<storage, read> on_axis: array<u32>;
+@group(0) @binding(25) var<storage, read_write> node_impulse: array<f32>;
+@group(0) @binding(26) var<storage, read_write> node_lost: array<f32>;
 
 fn finite(x: f32) -> bool {
     // NaN fails every comparison; ±inf exceeds the largest f32.
@@ -36,19 +52,37 @@ fn check(i: u32, x: vec4<f32>, nonfinite_slot: u32, escaped_slot: u32) {
     }
 }
 
-@compute @workgroup_size(WG)
-fn particles(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if (i >= u.n_particles) { return; }
-    let dt = bitcast<f32>(atomicLoad(&clock.dt_bits));
+// The step: the least candidate of the slot times the CFL number, set by the elements when
+// theirs is no larger (as Model::stable_dt counts it); or the clock's, as the host set it, when
+// no fold has run since the last integration (DT_FROM_CLOCK). Thread 0 stores it.
+fn step_dt(thread: u32) -> f32 {
+    let s = source.slot;
+    if (s == DT_FROM_CLOCK) {
+        return bitcast<f32>(atomicLoad(&clock.dt_bits));
+    }
+    let sph = atomicLoad(&clock.next[2u * s]);
+    let fem = atomicLoad(&clock.next[2u * s + 1u]);
+    let dt = bitcast<f32>(min(sph, fem)) * u.cfl;
+    if (thread == 0u) {
+        atomicStore(&clock.dt_bits, bitcast<u32>(dt));
+        atomicStore(&clock.fem_limited, select(0u, 1u, fem <= sph && fem != F32_MAX_BITS));
+        let other = 2u * (1u - s);
+        atomicStore(&clock.next[other], F32_MAX_BITS);
+        atomicStore(&clock.next[other + 1u], F32_MAX_BITS);
+    }
+    return dt;
+}
+
+fn particle(i: u32, dt: f32) {
     var e = energy[i] + dt * de_work[i];
-    if (flag[i] != 0u) {
+    if (fixed[i] != 0u) {
         energy[i] = e;
         // What the fixed particle would have gained from its neighbours is the boundary's
         // reaction on the rest (solver.rs: boundary_impulse).
         impulse[i] -= mass[i] * az[i] * dt;
         vr[i] = 0.0;
         vz[i] = 0.0;
+        watch(i, r[i], z[i]);
         return;
     }
     let a = vec2<f32>(ar[i], az[i]);
@@ -70,39 +104,59 @@ fn particles(@builtin(global_invocation_id) gid: vec3<u32>) {
     vr[i] = pvr;
     vz[i] = pvz;
     check(i, vec4<f32>(pr, pz, pvr, pvz), STATUS_PARTICLE_NONFINITE, STATUS_PARTICLE_ESCAPED);
+    watch(i, pr, pz);
 }
 
-@compute @workgroup_size(WG)
-fn nodes(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if (i >= u.n_nodes) { return; }
-    let dt = bitcast<f32>(atomicLoad(&clock.dt_bits));
-    let inv_m = 1.0 / mass[i];
-    var nvr = 0.0;
-    if (flag[i] == 0u) {
-        nvr = vr[i] + dt * ar[i] * inv_m;
+// The displacement watch: non-negative f32 bits order like the values; a load first keeps the
+// atomics to the few threads that raise the maximum.
+fn watch(i: u32, pr: f32, pz: f32) {
+    let d = vec2<f32>(pr, pz) - x_build[i];
+    let bits = bitcast<u32>(dot(d, d));
+    if (bits > atomicLoad(&grid_words[MOVED2_WORD])) {
+        atomicMax(&grid_words[MOVED2_WORD], bits);
     }
-    let vz_before = vz[i];
-    var f_z = az[i];
-    if (u.has_wall != 0u && z[i] <= u.wall_z) {
+}
+
+fn node(i: u32, dt: f32) {
+    let inv_m = 1.0 / node_mass[i];
+    var nvr = 0.0;
+    if (on_axis[i] == 0u) {
+        nvr = node_vr[i] + dt * node_fr[i] * inv_m;
+    }
+    let vz_before = node_vz[i];
+    var f_z = node_fz[i];
+    if (u.has_wall != 0u && node_z[i] <= u.wall_z) {
         f_z = max(f_z, 0.0);
     }
     var nvz = vz_before + dt * f_z * inv_m;
-    let nr = r[i] + dt * nvr;
-    var nz = z[i] + dt * nvz;
+    let nr = node_r[i] + dt * nvr;
+    var nz = node_z[i] + dt * nvz;
     if (u.has_wall != 0u) {
         if (nz < u.wall_z) {
             nz = u.wall_z;
             if (nvz < 0.0) {
-                lost[i] += 0.5 * mass[i] * nvz * nvz;
+                node_lost[i] += 0.5 * node_mass[i] * nvz * nvz;
                 nvz = 0.0;
             }
         }
-        impulse[i] += mass[i] * (nvz - vz_before) - az[i] * dt;
+        node_impulse[i] += node_mass[i] * (nvz - vz_before) - node_fz[i] * dt;
     }
-    r[i] = nr;
-    z[i] = nz;
-    vr[i] = nvr;
-    vz[i] = nvz;
+    node_r[i] = nr;
+    node_z[i] = nz;
+    node_vr[i] = nvr;
+    node_vz[i] = nvz;
     check(i, vec4<f32>(nr, nz, nvr, nvz), STATUS_NODE_NONFINITE, STATUS_NODE_ESCAPED);
+}
+
+@compute @workgroup_size(WG)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= max(u.n_particles, u.n_nodes)) { return; }
+    let dt = step_dt(i);
+    if (i < u.n_particles) {
+        particle(i, dt);
+    }
+    if (i < u.n_nodes) {
+        node(i, dt);
+    }
 }

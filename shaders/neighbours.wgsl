@@ -167,19 +167,6 @@ fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
     area[i] = mt / rho[i];
 }
 
-// After the integration: the largest squared displacement since the lists were built (each
-// thread folds a share, then one atomic; non-negative f32 bits order like the values).
-@compute @workgroup_size(WG)
-fn displacement(@builtin(global_invocation_id) gid: vec3<u32>,
-                @builtin(num_workgroups) groups: vec3<u32>) {
-    var most = 0.0;
-    for (var i = gid.x; i < u.n; i += groups.x * WG) {
-        let d = vec2<f32>(r[i], z[i]) - x_build[i];
-        most = max(most, dot(d, d));
-    }
-    atomicMax(&grid.moved2, bitcast<u32>(most));
-}
-
 @compute @workgroup_size(WG)
 fn scatter(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;

@@ -2,6 +2,7 @@
 
 use super::shader::Program;
 use super::state::{GpuNodes, GpuParticles};
+use super::timestep::{DtSlots, DT_FROM_CLOCK};
 use super::{Gpu, GpuError, Kernel};
 
 /// Status words (shaders/step.wgsl): the smallest index of an entity that went wrong.
@@ -14,12 +15,13 @@ pub const STATUS_WORDS: usize = 8;
 /// A status word with nothing to report.
 pub const STATUS_CLEAR: u32 = u32::MAX;
 
-/// The integration of particles and nodes.
+/// The integration of particles and nodes in one dispatch, with a bind group for each place it
+/// takes Δt from (`DtSlot`: the clock's slots 0 and 1, or the clock's Δt).
 pub struct IntegratePass {
-    particles: Option<(Kernel, wgpu::BindGroup)>,
-    nodes: (Kernel, wgpu::BindGroup),
-    n_particles: u32,
-    n_nodes: u32,
+    kernel: Kernel,
+    binds: [wgpu::BindGroup; 3],
+    /// The larger of the particle and node counts.
+    items: u32,
 }
 
 /// Buffers the integration accumulates into (summed by the host at output time).
@@ -29,8 +31,9 @@ pub struct Accumulators {
     pub node_impulse: wgpu::Buffer,
     /// Kinetic energy the wall took, per node (J).
     pub node_lost: wgpu::Buffer,
-    /// One-element stand-ins for the bindings an entry point does not use (never written):
-    /// the particles' `lost`, the nodes' `energy` and `de_work`.
+    /// Stand-ins for the particles' bindings in a scene without a target (never touched: its
+    /// particle count is 0), one for the read-only bindings and one for the writable ones, as
+    /// a buffer may not be bound both ways in one dispatch.
     pub unused: [wgpu::Buffer; 2],
 }
 
@@ -40,86 +43,97 @@ impl Accumulators {
             particle_impulse: gpu.zeros::<f32>("particle impulse", n_particles),
             node_impulse: gpu.zeros::<f32>("node impulse", n_nodes),
             node_lost: gpu.zeros::<f32>("node wall loss", n_nodes),
-            unused: [gpu.zeros::<f32>("unused", 1), gpu.zeros::<f32>("unused", 1)],
+            unused: [0, 1].map(|_| gpu.zeros::<[f32; 4]>("unused", 1)),
         }
     }
 }
 
 impl IntegratePass {
-    /// `particles` is None for a scene without a target.
+    /// `particles` is None for a scene without a target; `x_build` and `grid_info` are the
+    /// neighbour search's positions at the last build and its GridInfo (the displacement
+    /// watch), None with it.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         step: &wgpu::Buffer,
         clock: &wgpu::Buffer,
         status: &wgpu::Buffer,
-        particles: Option<&GpuParticles>,
+        slots: &DtSlots,
+        particles: Option<(&GpuParticles, &wgpu::Buffer, &wgpu::Buffer)>,
         nodes: &GpuNodes,
         acc: &Accumulators,
     ) -> Result<IntegratePass, GpuError> {
-        let integrate = |entry: &str| gpu.kernel(Program::Integrate, entry, &[]);
-        let particles_pass = match particles {
-            Some(p) => {
-                let k = integrate("particles")?;
-                let b = k.bind(
-                    gpu,
-                    &[
-                        ("u", step),
-                        ("clock", clock),
-                        ("status", status),
-                        ("r", &p.r),
-                        ("z", &p.z),
-                        ("vr", &p.vr),
-                        ("vz", &p.vz),
-                        ("ar", &p.ar),
-                        ("az", &p.az),
-                        ("mass", &p.mass),
-                        ("flag", &p.fixed),
-                        ("impulse", &acc.particle_impulse),
-                        ("lost", &acc.unused[0]),
-                        ("de_work", &p.de_work),
-                        ("energy", &p.energy),
-                    ],
-                )?;
-                Some((k, b))
-            }
-            None => None,
-        };
-        let k = integrate("nodes")?;
-        let n = nodes;
-        let nodes_bind = k.bind(
-            gpu,
-            &[
-                ("u", step),
-                ("clock", clock),
-                ("status", status),
-                ("r", &n.r),
-                ("z", &n.z),
-                ("vr", &n.vr),
-                ("vz", &n.vz),
-                ("ar", &n.fr),
-                ("az", &n.fz),
-                ("mass", &n.mass),
-                ("flag", &n.on_axis),
-                ("impulse", &acc.node_impulse),
-                ("lost", &acc.node_lost),
-                ("de_work", &acc.unused[1]),
-                ("energy", &acc.unused[0]),
+        let kernel = gpu.kernel(Program::Integrate, "main", &[])?;
+        let [read, write] = &acc.unused;
+        let p: [&wgpu::Buffer; 13] = match particles {
+            Some((p, x_build, grid_info)) => [
+                &p.r,
+                &p.z,
+                &p.vr,
+                &p.vz,
+                &p.ar,
+                &p.az,
+                &p.mass,
+                &p.fixed,
+                &acc.particle_impulse,
+                &p.de_work,
+                &p.energy,
+                x_build,
+                grid_info,
             ],
-        )?;
+            None => [
+                write, write, write, write, read, read, read, read, write, read, write, read, write,
+            ],
+        };
+        let n = nodes;
+        let bind = |slot: u32| {
+            kernel.bind(
+                gpu,
+                &[
+                    ("u", step),
+                    ("clock", clock),
+                    ("status", status),
+                    ("source", slots.get(slot)),
+                    ("r", p[0]),
+                    ("z", p[1]),
+                    ("vr", p[2]),
+                    ("vz", p[3]),
+                    ("ar", p[4]),
+                    ("az", p[5]),
+                    ("mass", p[6]),
+                    ("fixed", p[7]),
+                    ("impulse", p[8]),
+                    ("de_work", p[9]),
+                    ("energy", p[10]),
+                    ("x_build", p[11]),
+                    ("grid_words", p[12]),
+                    ("node_r", &n.r),
+                    ("node_z", &n.z),
+                    ("node_vr", &n.vr),
+                    ("node_vz", &n.vz),
+                    ("node_fr", &n.fr),
+                    ("node_fz", &n.fz),
+                    ("node_mass", &n.mass),
+                    ("on_axis", &n.on_axis),
+                    ("node_impulse", &acc.node_impulse),
+                    ("node_lost", &acc.node_lost),
+                ],
+            )
+        };
+        let binds = [bind(0)?, bind(1)?, bind(DT_FROM_CLOCK)?];
+        let n_particles = particles.map_or(0, |(p, _, _)| p.len as u32);
         Ok(IntegratePass {
-            particles: particles_pass,
-            nodes: (k, nodes_bind),
-            n_particles: particles.map_or(0, |p| p.len as u32),
-            n_nodes: nodes.len as u32,
+            kernel,
+            binds,
+            items: n_particles.max(nodes.len as u32),
         })
     }
 
-    /// Velocities and positions of particles and nodes over the clock's Δt.
-    pub fn record(&self, pass: &mut wgpu::ComputePass) {
-        if let Some((k, b)) = &self.particles {
-            k.dispatch(pass, b, self.n_particles);
-        }
-        self.nodes.0.dispatch(pass, &self.nodes.1, self.n_nodes);
+    /// Velocities and positions of particles and nodes over the Δt of `source` (a slot of the
+    /// clock's minima, or `DT_FROM_CLOCK`).
+    pub fn record(&self, pass: &mut wgpu::ComputePass, source: u32) {
+        self.kernel
+            .dispatch(pass, &self.binds[source as usize], self.items);
     }
 }
 
@@ -128,7 +142,6 @@ mod tests {
     use super::*;
     use crate::gpu::params::StepUniform;
     use crate::gpu::state::GpuElements;
-    use crate::gpu::timestep::TimestepPass;
     use crate::gpu::{run_once, test_gpu};
     use crate::solver::{Model, Simulation};
 
@@ -171,26 +184,59 @@ mod tests {
             / scale
     }
 
-    /// One integration and one Δt reduction agree with the CPU twins on the smoke state.
+    /// The moved² word of a stand-in for the grid's words.
+    const MOVED2: usize = (crate::gpu::neighbours::MOVED2_OFFSET / 4) as usize;
+
+    /// One integration and one Δt reduction agree with the CPU twins on the smoke state; the
+    /// next integration takes its Δt from the slot the reduction filled, empties the other,
+    /// and the displacement watch holds the largest move since the build.
     #[test]
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn integrate_and_timestep_match_cpu() {
+        use crate::gpu::timestep::{clock_words, slot_dt, DtSlots, TimestepPass, DT_FROM_CLOCK};
         let gpu = test_gpu();
-        let sim = smoke(60);
+        let mut sim = smoke(60);
+        // Set some of the target moving (the smoke's is still at rest), each particle at its
+        // own speed.
+        for i in (0..sim.particles.len()).step_by(7) {
+            sim.particles.vz[i] -= 50.0 + 0.01 * i as f32;
+        }
         let dt = sim.dt;
         let u = uniform(&sim);
         let step = gpu.uniform("step", &u);
-        let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(dt, false));
+        // Slot 1 holds stale minima, which only an integration from slot 0 empties.
+        let mut words = clock_words(dt, false);
+        words[4] = 1.0f32.to_bits();
+        words[5] = 2.0f32.to_bits();
+        let clock = gpu.buffer("clock", &words);
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
         let ge = GpuElements::upload(&gpu, &sim.projectile.elements);
         let acc = Accumulators::new(&gpu, gp.len, gn.len);
-        let pass = IntegratePass::new(&gpu, &step, &clock, &status, Some(&gp), &gn, &acc).unwrap();
-        let timestep = TimestepPass::new(&gpu, &step, &clock, Some(&gp), Some(&ge), &gn.r).unwrap();
+        let slots = DtSlots::new(&gpu);
+        // The lists "built" where the particles are now.
+        let x_build: Vec<[f32; 2]> = (0..sim.particles.len())
+            .map(|i| [sim.particles.r[i], sim.particles.z[i]])
+            .collect();
+        let x_build = gpu.buffer("x_build", &x_build);
+        let grid_words = gpu.buffer("grid words", &[0u32; MOVED2 + 1]);
+        let pass = IntegratePass::new(
+            &gpu,
+            &step,
+            &clock,
+            &status,
+            &slots,
+            Some((&gp, &x_build, &grid_words)),
+            &gn,
+            &acc,
+        )
+        .unwrap();
+        let timestep =
+            TimestepPass::new(&gpu, &step, &clock, &slots, Some(&gp), Some(&ge), &gn.r).unwrap();
         run_once(&gpu, |p| {
-            pass.record(p);
-            timestep.record(p);
+            pass.record(p, DT_FROM_CLOCK);
+            timestep.record(p, 0);
         })
         .unwrap();
 
@@ -219,19 +265,43 @@ mod tests {
             let e = field_error(a, b);
             assert!(e < 1.0e-6, "{name}: relative error {e:e}");
         }
+        let moved2 = (0..back.len())
+            .map(|i| {
+                let (dr, dz) = (
+                    back.r[i] - sim.particles.r[i],
+                    back.z[i] - sim.particles.z[i],
+                );
+                dr * dr + dz * dz
+            })
+            .fold(0.0f32, f32::max);
+        let watched = f32::from_bits(gpu.read::<u32>(&grid_words, MOVED2 + 1).unwrap()[MOVED2]);
+        assert!(moved2 > 0.0, "the particles move");
+        assert!(
+            (watched - moved2).abs() <= 1e-5 * moved2,
+            "watch {watched:e} against {moved2:e}"
+        );
 
-        // The next Δt, from the integrated particle state and the elements' dt.
+        // The next Δt's candidates in slot 0, from the integrated particle state and the
+        // elements' dt; the integration from the clock left the clock and slot 1 alone.
         let expect = crate::cpu::timestep::particle_dt(&back, &sph)
             .min(crate::cpu::timestep::element_dt(&sim.projectile.elements))
             * u.cfl;
-        let words: Vec<u32> = gpu.read(&clock, 2).unwrap();
-        let got = f32::from_bits(words[0]);
+        let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
+        assert_eq!(words[0], dt.to_bits());
+        assert_eq!(&words[4..], &[1.0f32.to_bits(), 2.0f32.to_bits()]);
+        let next = slot_dt(words[2], words[3], u.cfl);
         // h/(c + |v| + …): a handful of roundings, and the driver may use a faster division.
         assert!(
-            ((got - expect) / expect).abs() < 1.0e-5,
-            "dt {got:e} against {expect:e}"
+            ((next - expect) / expect).abs() < 1.0e-5,
+            "dt {next:e} against {expect:e}"
         );
-        assert_eq!(words[1], f32::MAX.to_bits(), "the running minimum resets");
+
+        // The next integration takes that Δt to the bit, says who set it, and empties slot 1.
+        run_once(&gpu, |p| pass.record(p, 0)).unwrap();
+        let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
+        assert_eq!(words[0], next.to_bits());
+        assert_eq!(words[1], u32::from(words[3] <= words[2]));
+        assert_eq!(&words[4..], &[f32::MAX.to_bits(); 2]);
         let st: Vec<u32> = gpu.read(&status, STATUS_WORDS).unwrap();
         assert!(
             st.iter().all(|&w| w == STATUS_CLEAR),
@@ -254,8 +324,24 @@ mod tests {
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
         let acc = Accumulators::new(&gpu, gp.len, gn.len);
-        let pass = IntegratePass::new(&gpu, &step, &clock, &status, Some(&gp), &gn, &acc).unwrap();
-        run_once(&gpu, |p| pass.record(p)).unwrap();
+        let slots = crate::gpu::timestep::DtSlots::new(&gpu);
+        let x_build = gpu.zeros::<[f32; 2]>("x_build", gp.len);
+        let grid_words = gpu.zeros::<u32>("grid words", MOVED2 + 1);
+        let pass = IntegratePass::new(
+            &gpu,
+            &step,
+            &clock,
+            &status,
+            &slots,
+            Some((&gp, &x_build, &grid_words)),
+            &gn,
+            &acc,
+        )
+        .unwrap();
+        run_once(&gpu, |p| {
+            pass.record(p, crate::gpu::timestep::DT_FROM_CLOCK)
+        })
+        .unwrap();
         let st: Vec<u32> = gpu.read(&status, STATUS_WORDS).unwrap();
         assert_eq!(st[STATUS_PARTICLE_NONFINITE], 17);
         assert_eq!(st[STATUS_NODE_NONFINITE], STATUS_CLEAR);

@@ -89,8 +89,8 @@ const INFO_LIST_RADIUS: usize = 10;
 pub const MOVED2_OFFSET: u64 = 4 * 11;
 
 /// The neighbour search: the counting sort of the particles into cells and the lists (the
-/// build), the packed kinematics every step, and the displacement watch that says when the
-/// lists must be built again.
+/// build), and the packed kinematics every step. The displacement watch that says when the
+/// lists must be built again is the integration's (integrate.wgsl, from `x_build`).
 pub struct NeighboursPass {
     bounds: Kernel,
     setup: Kernel,
@@ -101,13 +101,14 @@ pub struct NeighboursPass {
     sort_cells: Kernel,
     list: ListKernel,
     pack: Kernel,
-    displacement: Kernel,
     bind: wgpu::BindGroup,
     n: u32,
     /// Workgroups of the grid-stride loops over the cells.
     cell_groups: u32,
+    /// The particles' positions at the last build (the integration's displacement watch).
+    x_build: wgpu::Buffer,
     // Kept alive for the bind group.
-    _scratch: [wgpu::Buffer; 3],
+    _scratch: [wgpu::Buffer; 2],
 }
 
 impl NeighboursPass {
@@ -168,13 +169,13 @@ impl NeighboursPass {
             sort_cells: kernel("sort_cells")?,
             list: ListKernel::new(gpu, &grid, sph_uniform)?,
             pack: kernel("pack")?,
-            displacement: kernel("displacement")?,
             bind,
             n: n as u32,
             cell_groups: (capacity + 1)
                 .div_ceil(super::WORKGROUP)
                 .min(gpu.limits.max_compute_workgroups_per_dimension),
-            _scratch: [cell_of, rank, x_build],
+            x_build,
+            _scratch: [cell_of, rank],
         };
         Ok((pass, grid))
     }
@@ -198,9 +199,8 @@ impl NeighboursPass {
         self.list.kernel.dispatch(pass, &self.list.bind, self.n);
     }
 
-    /// After the integration: the largest displacement since the build, into GridInfo.moved2.
-    pub fn record_displacement(&self, pass: &mut wgpu::ComputePass) {
-        self.displacement.dispatch_fold(pass, &self.bind, self.n);
+    pub fn x_build(&self) -> &wgpu::Buffer {
+        &self.x_build
     }
 }
 

@@ -33,11 +33,12 @@ macro_rules! uniform_block {
 }
 
 /// Every block's WGSL, for the shader prelude.
-pub const BLOCKS: [&str; 5] = [
+pub const BLOCKS: [&str; 6] = [
     KernelUniform::WGSL,
     SphUniform::WGSL,
     FemUniform::WGSL,
     StepUniform::WGSL,
+    DtSlot::WGSL,
     ScanLevel::WGSL,
 ];
 
@@ -252,6 +253,15 @@ uniform_block! {
         pub cfl: f32,
         /// 1 when the elements' stable step takes part (a deformable projectile).
         pub has_fem: u32,
+    }
+}
+
+uniform_block! {
+    /// Which running minima of the clock the time-step fold fills (0 or 1), and which the
+    /// integration takes its step from (0, 1, or `DT_FROM_CLOCK`: the clock's Δt as the host
+    /// set it, where no fold has run since the last integration); see timestep.wgsl.
+    pub struct DtSlot {
+        pub slot: u32,
     }
 }
 

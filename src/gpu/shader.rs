@@ -100,7 +100,6 @@ impl Program {
                 "scatter",
                 "sort_cells",
                 "pack",
-                "displacement",
             ],
             Program::NeighbourList => &["list"],
             Program::Scan => &["scan_block", "scan_add"],
@@ -108,8 +107,8 @@ impl Program {
             Program::SphFilter => &["filter_velocity"],
             Program::SphForces => &["prologue", "forces"],
             Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
-            Program::Integrate => &["particles", "nodes"],
-            Program::Timestep => &["particle_dt", "element_dt", "finish"],
+            Program::Integrate => &["main"],
+            Program::Timestep => &["fold"],
             Program::ContactDetect => &["bounding_box", "detect", "gather", "apply"],
         }
     }
@@ -281,6 +280,11 @@ fn shared_constants() -> Vec<(&'static str, Value)> {
         ),
         ("STATUS_WORDS", status(super::integrate::STATUS_WORDS)),
         ("F32_MAX_BITS", U32(f32::MAX.to_bits())),
+        ("DT_FROM_CLOCK", U32(super::timestep::DT_FROM_CLOCK)),
+        (
+            "MOVED2_WORD",
+            U32((super::neighbours::MOVED2_OFFSET / 4) as u32),
+        ),
     ]
 }
 
@@ -449,7 +453,9 @@ mod tests {
     /// Each uniform block's WGSL layout (naga's) is the size encase writes from the Rust struct.
     #[test]
     fn uniform_blocks_have_the_rust_layout() {
-        use crate::gpu::params::{FemUniform, KernelUniform, ScanLevel, SphUniform, StepUniform};
+        use crate::gpu::params::{
+            DtSlot, FemUniform, KernelUniform, ScanLevel, SphUniform, StepUniform,
+        };
         use encase::ShaderType;
         let module = validate(&[]).unwrap();
         let mut layouter = naga::proc::Layouter::default();
@@ -466,6 +472,7 @@ mod tests {
         assert_eq!(size("SphUniform"), SphUniform::min_size().get());
         assert_eq!(size("FemUniform"), FemUniform::min_size().get());
         assert_eq!(size("StepUniform"), StepUniform::min_size().get());
+        assert_eq!(size("DtSlot"), DtSlot::min_size().get());
         assert_eq!(size("ScanLevel"), ScanLevel::min_size().get());
     }
 

@@ -232,7 +232,11 @@ mod tests {
     #[test]
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn sph_rates_on_stale_lists_match_cpu() {
+        use crate::gpu::integrate::{Accumulators, IntegratePass, STATUS_CLEAR, STATUS_WORDS};
         use crate::gpu::neighbours::{capacity, NeighboursPass, MOVED2_OFFSET};
+        use crate::gpu::params::StepUniform;
+        use crate::gpu::state::GpuNodes;
+        use crate::gpu::timestep;
         let gpu = test_gpu();
         let mut run = smoke_run(SMOKE_STEPS, &[]);
         let sim = run.model().unwrap();
@@ -272,9 +276,35 @@ mod tests {
         crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
         gp.write(&gpu, &now);
         let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph).unwrap();
+        // The displacement watch is the integration's: one of Δt = 0 leaves every particle
+        // where it is.
+        let step = gpu.uniform(
+            "step",
+            &StepUniform {
+                n_particles: gp.len as u32,
+                escape: f32::MAX,
+                ..Default::default()
+            },
+        );
+        let clock = gpu.buffer("clock", &timestep::clock_words(0.0, false));
+        let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
+        let slots = timestep::DtSlots::new(&gpu);
+        let nodes = GpuNodes::upload(&gpu, &sim.projectile.nodes);
+        let acc = Accumulators::new(&gpu, gp.len, nodes.len);
+        let watch = IntegratePass::new(
+            &gpu,
+            &step,
+            &clock,
+            &status,
+            &slots,
+            Some((&gp, neighbours.x_build(), &grid.info)),
+            &nodes,
+            &acc,
+        )
+        .unwrap();
         run_once(&gpu, |p| {
             neighbours.record(p, false);
-            neighbours.record_displacement(p);
+            watch.record(p, timestep::DT_FROM_CLOCK);
             pass.record(p);
         })
         .unwrap();

@@ -32,7 +32,7 @@ use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::{FemUniform, SphUniform, StepUniform};
 use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
-use super::timestep::TimestepPass;
+use super::timestep::{DtSlots, TimestepPass, DT_FROM_CLOCK};
 use super::traffic::{Charge, Tally, Traffic};
 use super::ReadBatch;
 use super::{Gpu, GpuError};
@@ -80,6 +80,13 @@ pub struct GpuStep {
     passes: Vec<Pass>,
     integrate: IntegratePass,
     timestep: TimestepPass,
+    /// The clock's slot of running minima the next time-step fold fills, and whether a fold
+    /// has filled it since the last integration (which then takes its Δt from it, empties
+    /// the other slot, and the two swap).
+    dt_slot: u32,
+    folded: bool,
+    cfl: f32,
+    _slots: DtSlots,
     acc: Accumulators,
     clock: wgpu::Buffer,
     status: wgpu::Buffer,
@@ -295,12 +302,15 @@ impl GpuStep {
         } else {
             None
         };
+        let slots = DtSlots::new(&gpu);
         let integrate = IntegratePass::new(
             &gpu,
             &uniforms[0],
             &clock,
             &status,
-            sph.as_ref().map(|p| &p.particles),
+            &slots,
+            sph.as_ref()
+                .map(|p| (&p.particles, p.neighbours.x_build(), &p.grid.info)),
             &nodes,
             &acc,
         )?;
@@ -308,6 +318,7 @@ impl GpuStep {
             &gpu,
             &uniforms[0],
             &clock,
+            &slots,
             sph.as_ref().map(|p| &p.particles),
             if deformable { Some(&elements) } else { None },
             &nodes.r,
@@ -316,11 +327,11 @@ impl GpuStep {
         let nn = s.projectile.nodes.len() as u64;
         let status_at = 16u64;
         let nodes_at = status_at + 4 * STATUS_WORDS as u64;
-        // The fixed part: the clock's Δt words, then moved² at 8 and the clock's fem_limited
-        // at 12, then the status words.
+        // The fixed part: the clock's Δt and fem_limited words, then moved² at 8, then (after
+        // a free word) the status words.
         let layout = Layout {
             moved2: 8,
-            fem_limited: 12,
+            fem_limited: 4,
             status: status_at,
             nodes: nodes_at,
             hits: nodes_at + 16 * nn,
@@ -343,6 +354,10 @@ impl GpuStep {
             passes: s.passes.to_vec(),
             integrate,
             timestep,
+            dt_slot: 0,
+            folded: false,
+            cfl: s.cfl,
+            _slots: slots,
             acc,
             clock,
             status,
@@ -467,23 +482,18 @@ impl GpuStep {
         for skipped in next..profiled_slot("timestep") {
             self.mark(pass, skipped);
         }
-        self.timestep.record(pass);
+        self.timestep.record(pass, self.dt_slot);
         self.mark(pass, 8);
     }
 
     /// The first half of a step, up to what the host corrects: the scene's passes before its
     /// force passes (integration, then contact detection), each marked in its profiler slot.
-    fn record_motion(&self, pass: &mut wgpu::ComputePass) {
+    fn record_motion(&self, pass: &mut wgpu::ComputePass, dt_source: u32) {
         let sph = self.sph.as_ref();
         let mut next = profiled_slot("integrate");
         for p in self.passes.iter().filter(|p| !p.is_force()) {
             match (p, sph.and_then(|s| s.contact.as_ref())) {
-                (Pass::Integrate, _) => {
-                    self.integrate.record(pass);
-                    if let Some(s) = sph {
-                        s.neighbours.record_displacement(pass);
-                    }
-                }
+                (Pass::Integrate, _) => self.integrate.record(pass, dt_source),
                 (Pass::ContactDetect, Some(c)) => c.record_detect(pass),
                 // The correction runs on the host, between this submission and the next.
                 _ => continue,
@@ -512,6 +522,13 @@ impl GpuStep {
         self.charge(None, false);
         let start = Instant::now();
         let build = self.pending_forces && self.lists_stale();
+        // The integration's Δt: the slot this submission's fold fills, or an earlier
+        // submission's (a download's) fold, or the host's where none has run yet.
+        let dt_source = if self.pending_forces || self.folded {
+            self.dt_slot
+        } else {
+            DT_FROM_CLOCK
+        };
         let mut encoder = self
             .gpu
             .device
@@ -531,14 +548,13 @@ impl GpuStep {
                     self.mark(&mut pass, slot);
                 }
             }
-            self.record_motion(&mut pass);
+            self.record_motion(&mut pass, dt_source);
         }
         if let Some(p) = &self.profiler {
             p.resolve(&mut encoder);
         }
         let l = &self.layout;
         encoder.copy_buffer_to_buffer(&self.clock, 0, &self.staging, 0, 8);
-        encoder.copy_buffer_to_buffer(&self.clock, 12, &self.staging, l.fem_limited, 4);
         if let Some(sph) = &self.sph {
             encoder.copy_buffer_to_buffer(
                 &sph.grid.info,
@@ -580,6 +596,10 @@ impl GpuStep {
         self.built(build);
         self.pending_forces = true;
         self.pending_fixes = 0;
+        if dt_source != DT_FROM_CLOCK {
+            self.dt_slot = 1 - self.dt_slot;
+        }
+        self.folded = false;
         let l = &self.layout;
         let bytes = self.gpu.map_read(&self.staging, size as usize)?;
         self.host.record += (recorded - start).as_secs_f64();

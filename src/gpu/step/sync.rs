@@ -2,6 +2,7 @@
 //! after the pending second half of the last step, in one submission waited for once.
 
 use super::super::state::{GpuElements, GpuNodes, GpuParticles};
+use super::super::timestep::{slot_dt, CLOCK_SLOTS};
 use super::super::traffic::Charge;
 use super::super::{GpuError, ReadBatch};
 use super::GpuStep;
@@ -33,6 +34,7 @@ impl GpuStep {
             self.built(build);
             self.pending_forces = false;
             self.pending_fixes = 0;
+            self.folded = true;
         }
     }
 
@@ -70,7 +72,7 @@ impl GpuStep {
             .fem
             .as_ref()
             .map(|_| self.elements.queue(&mut batch, &projectile.elements));
-        let clock = batch.add::<u32>(&self.clock, 2);
+        let clock = batch.add::<u32>(&self.clock, (CLOCK_SLOTS / 4 + 4) as usize);
         let particle_impulse = batch.add::<f32>(&self.acc.particle_impulse, n_p);
         let node_impulse = batch.add::<f32>(&self.acc.node_impulse, n_n);
         let node_lost = batch.add::<f32>(&self.acc.node_lost, n_n);
@@ -100,7 +102,7 @@ impl GpuStep {
             boundary_impulse: sum(particle_impulse) + sum(node_impulse),
             wall_lost: sum(node_lost),
             plastic_work: sum(plastic),
-            next_dt: f32::from_bits(read.take::<u32>(clock)[0]),
+            next_dt: self.next_dt(&read.take::<u32>(clock)),
         };
         let to = match what {
             Sync::Full => Charge::Full,
@@ -108,6 +110,18 @@ impl GpuStep {
         };
         self.charge(Some(to), true);
         Ok(totals)
+    }
+}
+
+impl GpuStep {
+    /// The Δt the next integration takes, from the clock's words: the slot a fold filled
+    /// (as integrate.wgsl makes it), or the clock's own where none has run since.
+    fn next_dt(&self, clock: &[u32]) -> f32 {
+        if !self.folded {
+            return f32::from_bits(clock[0]);
+        }
+        let at = (CLOCK_SLOTS / 4) as usize + 2 * self.dt_slot as usize;
+        slot_dt(clock[at], clock[at + 1], self.cfl)
     }
 }
 
