@@ -1,6 +1,6 @@
 // Shared helpers of every pass (src/gpu/shader.rs puts them after its prelude in every program).
 // The prelude declares, from their Rust definitions, the uniform blocks (KernelUniform,
-// SphUniform, FemUniform, StepUniform, ScanLevel: src/gpu/params.rs) and the constants the
+// SphUniform, FemUniform, StepUniform, DtSlot, ScanLevel: src/gpu/params.rs) and the constants the
 // shaders share with the CPU path (WG = gpu::WORKGROUP, the material floors, the status words).
 // Every pass uses @workgroup_size(WG): WG.
 
@@ -47,4 +47,20 @@ fn hoop_radius(ri: f32, h: f32) -> f32 {
 fn hoop_rate(vr: f32, ri: f32, h: f32, n: f32, conjugate: bool) -> f32 {
     let rate = vr / hoop_radius(ri, h);
     return select(rate, n * rate, conjugate);
+}
+
+// Order-preserving map of an f32 to a u32 (for atomicMin/atomicMax on floats).
+fn float_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    if ((b & 0x80000000u) != 0u) {
+        return ~b;
+    }
+    return b | 0x80000000u;
+}
+
+fn key_float(k: u32) -> f32 {
+    if ((k & 0x80000000u) != 0u) {
+        return bitcast<f32>(k & 0x7fffffffu);
+    }
+    return bitcast<f32>(~k);
 }

@@ -1,9 +1,10 @@
-// `contact_detect` (CPU twin: src/cpu/contact_detect.rs): each preselected slave particle is
-// tested against the master triangles; a slave inside one is a hit (the nearest segment AB
-// wins) and is appended to the hit list. The append order varies between runs; the host sorts
-// the hits by slave index before correcting, so the result does not. Then the hits' slave
-// kinematics are gathered for the read-back, and after the host's correction `apply` writes the
-// corrected slaves back. Needs params.wgsl and step.wgsl.
+// `contact_detect` (CPU twin: src/cpu/contact_detect.rs): each preselected slave particle inside
+// the projectile's bounding box (the integration's, which also empties the hit list) is tested
+// against the master triangles; a slave inside one is a hit (the nearest segment AB wins) and
+// is appended to the hit list with its kinematics for the read-back. The append order varies
+// between runs; the host sorts the hits by slave index before correcting, so the result does
+// not. After the host's correction `apply` writes the corrected slaves back. Needs params.wgsl
+// and step.wgsl.
 
 struct Master {
     element: u32,
@@ -23,47 +24,14 @@ struct Master {
 @group(0) @binding(8) var<storage, read> nz: array<f32>;
 // hits[0]: the count; then (slave, master) pairs.
 @group(0) @binding(9) var<storage, read_write> hits: array<atomic<u32>>;
-// Per hit: (r, z, vr, vz) of the slave, gathered for the read-back; and, written by the host,
+// Per hit: (r, z, vr, vz) of the slave, for the read-back; and, written by the host,
 // [count, then per hit (slave, r, z, vr, vz)] for `apply`.
 @group(0) @binding(10) var<storage, read_write> hit_data: array<vec4<f32>>;
 @group(0) @binding(11) var<storage, read> fixes: array<u32>;
-// Bounding box of the projectile: r_max, z_min, z_max.
-@group(0) @binding(12) var<storage, read_write> bounds: array<f32>;
-
-var<workgroup> box_r: array<f32, WG>;
-var<workgroup> box_lo: array<f32, WG>;
-var<workgroup> box_hi: array<f32, WG>;
-
-// One workgroup: the projectile's bounding box, and the hit count reset.
-@compute @workgroup_size(WG)
-fn bounding_box(@builtin(local_invocation_index) local: u32) {
-    var r_max = 0.0;
-    var z_lo = 3.4028235e38;
-    var z_hi = -3.4028235e38;
-    for (var i = local; i < u.n_nodes; i += WG) {
-        r_max = max(r_max, nr[i]);
-        z_lo = min(z_lo, nz[i]);
-        z_hi = max(z_hi, nz[i]);
-    }
-    box_r[local] = r_max;
-    box_lo[local] = z_lo;
-    box_hi[local] = z_hi;
-    workgroupBarrier();
-    for (var stride = WG / 2u; stride > 0u; stride = stride >> 1u) {
-        if (local < stride) {
-            box_r[local] = max(box_r[local], box_r[local + stride]);
-            box_lo[local] = min(box_lo[local], box_lo[local + stride]);
-            box_hi[local] = max(box_hi[local], box_hi[local + stride]);
-        }
-        workgroupBarrier();
-    }
-    if (local == 0u) {
-        bounds[0] = box_r[0];
-        bounds[1] = box_lo[0];
-        bounds[2] = box_hi[0];
-        atomicStore(&hits[0], 0u);
-    }
-}
+// The projectile's bounding box after this step's integration, as ordered keys (common.wgsl
+// float_key): r_max, z_min, z_max at 4 box_slot.slot (integrate.wgsl `node` folds it there).
+@group(0) @binding(12) var<storage, read> box_keys: array<u32>;
+@group(0) @binding(13) var<uniform> box_slot: DtSlot;
 
 // Twice the signed area of (a, b, p): positive when p is left of a -> b.
 fn orient(a: vec2<f32>, b: vec2<f32>, p: vec2<f32>) -> f32 {
@@ -76,7 +44,11 @@ fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (k >= u.n_slaves) { return; }
     let s = slaves[k];
     let p = vec2<f32>(pr[s], pz[s]);
-    if (p.x > bounds[0] || p.y < bounds[1] || p.y > bounds[2]) { return; }
+    let box = 4u * box_slot.slot;
+    if (p.x > key_float(box_keys[box]) || p.y < key_float(box_keys[box + 1u])
+        || p.y > key_float(box_keys[box + 2u])) {
+        return;
+    }
     var best = 0xffffffffu;
     var best_depth = 0.0;
     for (var m = 0u; m < u.n_masters; m++) {
@@ -102,17 +74,9 @@ fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (slot < u.n_slaves) {
             atomicStore(&hits[1u + 2u * slot], s);
             atomicStore(&hits[2u + 2u * slot], best);
+            hit_data[slot] = vec4<f32>(p, pvr[s], pvz[s]);
         }
     }
-}
-
-// Per hit: the slave's position and velocity for the read-back.
-@compute @workgroup_size(WG)
-fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.x;
-    if (k >= min(atomicLoad(&hits[0]), u.n_slaves)) { return; }
-    let s = atomicLoad(&hits[1u + 2u * k]);
-    hit_data[k] = vec4<f32>(pr[s], pz[s], pvr[s], pvz[s]);
 }
 
 // Per corrected slave (written by the host): its new position and velocity.

@@ -22,24 +22,8 @@ struct GridInfo {
     // set once by the host; the cells are half of it.
     list_radius: f32,
     // Largest squared displacement of a particle since the lists were built (f32 bits;
-    // neighbours.wgsl `displacement`), read back every step to decide the next rebuild.
+    // integrate.wgsl `watch`), read back every step to decide the next rebuild.
     moved2: u32,
-}
-
-// Order-preserving map of an f32 to a u32 (for atomicMin/atomicMax on floats).
-fn float_key(x: f32) -> u32 {
-    let b = bitcast<u32>(x);
-    if ((b & 0x80000000u) != 0u) {
-        return ~b;
-    }
-    return b | 0x80000000u;
-}
-
-fn key_float(k: u32) -> f32 {
-    if ((k & 0x80000000u) != 0u) {
-        return bitcast<f32>(k & 0x7fffffffu);
-    }
-    return bitcast<f32>(~k);
 }
 
 // Cell (ir, iz) of a position, clamped into the grid as on the CPU.

@@ -2,8 +2,10 @@
 // constraint, the rigid wall, instability flags; particles and nodes in one dispatch (thread i
 // takes particle i and node i). It also ends the Δt reduction (timestep.wgsl): every thread
 // takes the step from the running minima the fold filled, thread 0 stores it in the clock and
-// empties the other slot for the next step's fold; and it folds the particles' largest squared
-// displacement since the neighbour lists were built into the grid's moved2 (reset by `pack`).
+// empties the other slot for the next step's fold. And it folds what contact detection and
+// the neighbour lists' watch need: the particles' largest squared displacement since the lists
+// were built into the grid's moved2 (reset by `pack`), and the nodes' bounding box into the
+// box slot of this integration's parity (thread 0 empties the other, and the hit list).
 // Needs params.wgsl and step.wgsl.
 
 @group(0) @binding(0) var<uniform> u: StepUniform;
@@ -38,6 +40,16 @@
 @group(0) @binding(24) var<storage, read> on_axis: array<u32>;
 @group(0) @binding(25) var<storage, read_write> node_impulse: array<f32>;
 @group(0) @binding(26) var<storage, read_write> node_lost: array<f32>;
+// The contact's: the projectile's bounding box as ordered keys (common.wgsl float_key), r_max,
+// z_min, z_max at 4 p for the parity p; and the hit list, whose count is word 0.
+@group(0) @binding(27) var<storage, read_write> box_keys: array<atomic<u32>>;
+@group(0) @binding(28) var<storage, read_write> hits: array<atomic<u32>>;
+
+// This integration's parity: the slot its Δt is in (DT_FROM_CLOCK comes only before the first
+// fold, at parity 0).
+fn parity() -> u32 {
+    return source.slot & 1u;
+}
 
 fn finite(x: f32) -> bool {
     // NaN fails every comparison; ±inf exceeds the largest f32.
@@ -52,23 +64,37 @@ fn check(i: u32, x: vec4<f32>, nonfinite_slot: u32, escaped_slot: u32) {
     }
 }
 
+// Thread 0: what the next integration's parity fills empties (the running minima and the box),
+// and the hit list.
+fn empty_the_other_parity() {
+    let other = 1u - parity();
+    atomicStore(&clock.next[2u * other], F32_MAX_BITS);
+    atomicStore(&clock.next[2u * other + 1u], F32_MAX_BITS);
+    if (u.n_slaves > 0u) {
+        atomicStore(&box_keys[4u * other], float_key(0.0));
+        atomicStore(&box_keys[4u * other + 1u], float_key(3.4028235e38));
+        atomicStore(&box_keys[4u * other + 2u], float_key(-3.4028235e38));
+        atomicStore(&hits[0], 0u);
+    }
+}
+
 // The step: the least candidate of the slot times the CFL number, set by the elements when
 // theirs is no larger (as Model::stable_dt counts it); or the clock's, as the host set it, when
-// no fold has run since the last integration (DT_FROM_CLOCK). Thread 0 stores it.
+// no fold has run yet (DT_FROM_CLOCK). Thread 0 stores it.
 fn step_dt(thread: u32) -> f32 {
-    let s = source.slot;
-    if (s == DT_FROM_CLOCK) {
+    if (thread == 0u) {
+        empty_the_other_parity();
+    }
+    if (source.slot == DT_FROM_CLOCK) {
         return bitcast<f32>(atomicLoad(&clock.dt_bits));
     }
-    let sph = atomicLoad(&clock.next[2u * s]);
-    let fem = atomicLoad(&clock.next[2u * s + 1u]);
+    let s = 2u * parity();
+    let sph = atomicLoad(&clock.next[s]);
+    let fem = atomicLoad(&clock.next[s + 1u]);
     let dt = bitcast<f32>(min(sph, fem)) * u.cfl;
     if (thread == 0u) {
         atomicStore(&clock.dt_bits, bitcast<u32>(dt));
         atomicStore(&clock.fem_limited, select(0u, 1u, fem <= sph && fem != F32_MAX_BITS));
-        let other = 2u * (1u - s);
-        atomicStore(&clock.next[other], F32_MAX_BITS);
-        atomicStore(&clock.next[other + 1u], F32_MAX_BITS);
     }
     return dt;
 }
@@ -146,6 +172,21 @@ fn node(i: u32, dt: f32) {
     node_vr[i] = nvr;
     node_vz[i] = nvz;
     check(i, vec4<f32>(nr, nz, nvr, nvz), STATUS_NODE_NONFINITE, STATUS_NODE_ESCAPED);
+    if (u.n_slaves > 0u) {
+        // A load first keeps the atomics to the few nodes that widen the box.
+        let b = 4u * parity();
+        let kr = float_key(nr);
+        let kz = float_key(nz);
+        if (kr > atomicLoad(&box_keys[b])) {
+            atomicMax(&box_keys[b], kr);
+        }
+        if (kz < atomicLoad(&box_keys[b + 1u])) {
+            atomicMin(&box_keys[b + 1u], kz);
+        }
+        if (kz > atomicLoad(&box_keys[b + 2u])) {
+            atomicMax(&box_keys[b + 2u], kz);
+        }
+    }
 }
 
 @compute @workgroup_size(WG)

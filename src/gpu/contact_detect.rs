@@ -1,19 +1,35 @@
 //! `contact_detect` on the GPU (shaders/contact_detect.wgsl; CPU twin `cpu::contact_detect`): the
-//! projectile's bounding box, the slave-in-master-triangle test with an appended hit list, the
-//! gather of the hits' slave kinematics for the read-back, and `apply`, which writes back the
-//! slaves the host corrected.
+//! slave-in-master-triangle test of the slaves inside the projectile's bounding box (which the
+//! integration folds, `box_keys`) with an appended hit list and the hits' slave kinematics for
+//! the read-back, and `apply`, which writes back the slaves the host corrected.
 
 use super::shader::Program;
 use super::state::{GpuNodes, GpuParticles};
+use super::timestep::DtSlots;
 use super::{Gpu, GpuError, Kernel};
 use crate::mesh::MasterSegment;
 
+/// common.wgsl `float_key`: an order-preserving map of an f32 to a u32.
+pub const fn float_key(x: f32) -> u32 {
+    let b = x.to_bits();
+    if b & 0x8000_0000 != 0 {
+        !b
+    } else {
+        b | 0x8000_0000
+    }
+}
+
+/// The empty bounding box as `box_keys` holds it: r_max from 0 (as the CPU's), z_min and z_max
+/// from the far ends.
+pub const EMPTY_BOX: [u32; 4] = [float_key(0.0), float_key(f32::MAX), float_key(-f32::MAX), 0];
+
 pub struct ContactPass {
-    bounding_box: Kernel,
     detect: Kernel,
-    gather: Kernel,
     apply: Kernel,
-    bind: wgpu::BindGroup,
+    /// One bind group for each parity of the integration the box is from.
+    binds: [wgpu::BindGroup; 2],
+    /// The projectile's bounding box after the integration of each parity (integrate.wgsl).
+    pub box_keys: wgpu::Buffer,
     /// `[count, (slave, master)…]`, `(r, z, vr, vz)` per hit, and the host's fixes.
     pub hits: wgpu::Buffer,
     pub hit_data: wgpu::Buffer,
@@ -29,6 +45,7 @@ impl ContactPass {
         masters: &[MasterSegment],
         particles: &GpuParticles,
         nodes: &GpuNodes,
+        slots: &DtSlots,
     ) -> Result<ContactPass, GpuError> {
         let kernel = |entry: &str| gpu.kernel(Program::ContactDetect, entry, &[]);
         let n = slaves.len();
@@ -38,32 +55,35 @@ impl ContactPass {
         let hits = gpu.zeros::<u32>("hits", 1 + 2 * n);
         let hit_data = gpu.zeros::<[f32; 4]>("hit data", n);
         let fixes = gpu.zeros::<u32>("contact fixes", 1 + 5 * n);
-        let bounds = gpu.zeros::<f32>("projectile box", 4);
-        let bounding_box = kernel("bounding_box")?;
-        let bind = bounding_box.bind(
-            gpu,
-            &[
-                ("u", step),
-                ("slaves", &slave_buf),
-                ("masters", &master_buf),
-                ("pr", &particles.r),
-                ("pz", &particles.z),
-                ("pvr", &particles.vr),
-                ("pvz", &particles.vz),
-                ("nr", &nodes.r),
-                ("nz", &nodes.z),
-                ("hits", &hits),
-                ("hit_data", &hit_data),
-                ("fixes", &fixes),
-                ("bounds", &bounds),
-            ],
-        )?;
+        let box_keys = gpu.buffer("projectile box", &[EMPTY_BOX, EMPTY_BOX]);
+        let detect = kernel("detect")?;
+        let bind = |slot: u32| {
+            detect.bind(
+                gpu,
+                &[
+                    ("u", step),
+                    ("slaves", &slave_buf),
+                    ("masters", &master_buf),
+                    ("pr", &particles.r),
+                    ("pz", &particles.z),
+                    ("pvr", &particles.vr),
+                    ("pvz", &particles.vz),
+                    ("nr", &nodes.r),
+                    ("nz", &nodes.z),
+                    ("hits", &hits),
+                    ("hit_data", &hit_data),
+                    ("fixes", &fixes),
+                    ("box_keys", &box_keys),
+                    ("box_slot", slots.get(slot)),
+                ],
+            )
+        };
+        let binds = [bind(0)?, bind(1)?];
         Ok(ContactPass {
-            bounding_box,
-            detect: kernel("detect")?,
-            gather: kernel("gather")?,
+            detect,
             apply: kernel("apply")?,
-            bind,
+            binds,
+            box_keys,
             hits,
             hit_data,
             fixes,
@@ -71,16 +91,16 @@ impl ContactPass {
         })
     }
 
-    /// Detect this step's hits and gather their slaves' kinematics.
-    pub fn record_detect(&self, pass: &mut wgpu::ComputePass) {
-        self.bounding_box.dispatch_groups(pass, &self.bind, 1);
-        self.detect.dispatch(pass, &self.bind, self.n_slaves);
-        self.gather.dispatch(pass, &self.bind, self.n_slaves);
+    /// Detect this step's hits, with their slaves' kinematics, after an integration of
+    /// `parity`.
+    pub fn record_detect(&self, pass: &mut wgpu::ComputePass, parity: u32) {
+        self.detect
+            .dispatch(pass, &self.binds[parity as usize], self.n_slaves);
     }
 
     /// Write back the slaves in `fixes` (the host wrote it before this submission).
     pub fn record_apply(&self, pass: &mut wgpu::ComputePass, count: u32) {
-        self.apply.dispatch(pass, &self.bind, count);
+        self.apply.dispatch(pass, &self.binds[0], count);
     }
 
     /// The host's corrected slaves: `(slave, r, z, vr, vz)` for each, as `fixes` holds them.
@@ -138,9 +158,25 @@ mod tests {
         let step = gpu.uniform("step", &u);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
-        let pass =
-            ContactPass::new(&gpu, &step, &sim.slaves, &sim.projectile.masters, &gp, &gn).unwrap();
-        run_once(&gpu, |p| pass.record_detect(p)).unwrap();
+        let slots = crate::gpu::timestep::DtSlots::new(&gpu);
+        let pass = ContactPass::new(
+            &gpu,
+            &step,
+            &sim.slaves,
+            &sim.projectile.masters,
+            &gp,
+            &gn,
+            &slots,
+        )
+        .unwrap();
+        // The box of parity 1, as the integration folds it (`integrate_and_timestep_match_cpu`).
+        let n = &sim.projectile.nodes;
+        let r_max = n.r.iter().fold(0.0f32, |m, &r| m.max(r));
+        let z_lo = n.z.iter().fold(f32::MAX, |m, &z| m.min(z));
+        let z_hi = n.z.iter().fold(-f32::MAX, |m, &z| m.max(z));
+        let box_1 = [float_key(r_max), float_key(z_lo), float_key(z_hi), 0];
+        gpu.write(&pass.box_keys, &[EMPTY_BOX, box_1]);
+        run_once(&gpu, |p| pass.record_detect(p, 1)).unwrap();
         let words: Vec<u32> = gpu.read(&pass.hits, 1 + 2 * sim.slaves.len()).unwrap();
         let count = words[0] as usize;
         let mut got: Vec<(u32, u32)> = (0..count)

@@ -48,10 +48,19 @@ impl Accumulators {
     }
 }
 
+/// What the integration of a scene with a target binds besides the particles: the neighbour
+/// search's positions at the last build and its GridInfo (the displacement watch), and the
+/// contact's bounding-box keys and hit list.
+pub struct TargetBindings<'a> {
+    pub particles: &'a GpuParticles,
+    pub x_build: &'a wgpu::Buffer,
+    pub grid_info: &'a wgpu::Buffer,
+    pub box_keys: &'a wgpu::Buffer,
+    pub hits: &'a wgpu::Buffer,
+}
+
 impl IntegratePass {
-    /// `particles` is None for a scene without a target; `x_build` and `grid_info` are the
-    /// neighbour search's positions at the last build and its GridInfo (the displacement
-    /// watch), None with it.
+    /// `target` is None for a scene without one.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
@@ -59,30 +68,33 @@ impl IntegratePass {
         clock: &wgpu::Buffer,
         status: &wgpu::Buffer,
         slots: &DtSlots,
-        particles: Option<(&GpuParticles, &wgpu::Buffer, &wgpu::Buffer)>,
+        target: Option<TargetBindings>,
         nodes: &GpuNodes,
         acc: &Accumulators,
     ) -> Result<IntegratePass, GpuError> {
         let kernel = gpu.kernel(Program::Integrate, "main", &[])?;
         let [read, write] = &acc.unused;
-        let p: [&wgpu::Buffer; 13] = match particles {
-            Some((p, x_build, grid_info)) => [
-                &p.r,
-                &p.z,
-                &p.vr,
-                &p.vz,
-                &p.ar,
-                &p.az,
-                &p.mass,
-                &p.fixed,
+        let p: [&wgpu::Buffer; 15] = match &target {
+            Some(t) => [
+                &t.particles.r,
+                &t.particles.z,
+                &t.particles.vr,
+                &t.particles.vz,
+                &t.particles.ar,
+                &t.particles.az,
+                &t.particles.mass,
+                &t.particles.fixed,
                 &acc.particle_impulse,
-                &p.de_work,
-                &p.energy,
-                x_build,
-                grid_info,
+                &t.particles.de_work,
+                &t.particles.energy,
+                t.x_build,
+                t.grid_info,
+                t.box_keys,
+                t.hits,
             ],
             None => [
-                write, write, write, write, read, read, read, read, write, read, write, read, write,
+                write, write, write, write, read, read, read, read, write, read, write, read,
+                write, write, write,
             ],
         };
         let n = nodes;
@@ -117,11 +129,13 @@ impl IntegratePass {
                     ("on_axis", &n.on_axis),
                     ("node_impulse", &acc.node_impulse),
                     ("node_lost", &acc.node_lost),
+                    ("box_keys", p[13]),
+                    ("hits", p[14]),
                 ],
             )
         };
         let binds = [bind(0)?, bind(1)?, bind(DT_FROM_CLOCK)?];
-        let n_particles = particles.map_or(0, |(p, _, _)| p.len as u32);
+        let n_particles = target.map_or(0, |t| t.particles.len as u32);
         Ok(IntegratePass {
             kernel,
             binds,
@@ -140,6 +154,7 @@ impl IntegratePass {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gpu::contact_detect::{float_key, EMPTY_BOX};
     use crate::gpu::params::StepUniform;
     use crate::gpu::state::GpuElements;
     use crate::gpu::{run_once, test_gpu};
@@ -188,8 +203,9 @@ mod tests {
     const MOVED2: usize = (crate::gpu::neighbours::MOVED2_OFFSET / 4) as usize;
 
     /// One integration and one Δt reduction agree with the CPU twins on the smoke state; the
-    /// next integration takes its Δt from the slot the reduction filled, empties the other,
-    /// and the displacement watch holds the largest move since the build.
+    /// next integration takes its Δt from the slot the reduction filled; each integration
+    /// empties the other parity's slot, box and the hit list; the displacement watch holds the
+    /// largest move since the build and the box the nodes' extent.
     #[test]
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn integrate_and_timestep_match_cpu() {
@@ -202,13 +218,18 @@ mod tests {
             sim.particles.vz[i] -= 50.0 + 0.01 * i as f32;
         }
         let dt = sim.dt;
-        let u = uniform(&sim);
+        let u = StepUniform {
+            n_slaves: 1,
+            ..uniform(&sim)
+        };
         let step = gpu.uniform("step", &u);
-        // Slot 1 holds stale minima, which only an integration from slot 0 empties.
+        // Slot and box 1 hold stale values, the hit list a count.
+        let stale = [1.0f32.to_bits(), 2.0f32.to_bits()];
         let mut words = clock_words(dt, false);
-        words[4] = 1.0f32.to_bits();
-        words[5] = 2.0f32.to_bits();
+        words[4..].copy_from_slice(&stale);
         let clock = gpu.buffer("clock", &words);
+        let box_keys = gpu.buffer("box keys", &[EMPTY_BOX, [7; 4]]);
+        let hits = gpu.buffer("hits", &[5u32]);
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
@@ -227,16 +248,23 @@ mod tests {
             &clock,
             &status,
             &slots,
-            Some((&gp, &x_build, &grid_words)),
+            Some(TargetBindings {
+                particles: &gp,
+                x_build: &x_build,
+                grid_info: &grid_words,
+                box_keys: &box_keys,
+                hits: &hits,
+            }),
             &gn,
             &acc,
         )
         .unwrap();
         let timestep =
             TimestepPass::new(&gpu, &step, &clock, &slots, Some(&gp), Some(&ge), &gn.r).unwrap();
+        // Parity 0 (from the clock's Δt), then the fold into slot 1, as GpuStep swaps them.
         run_once(&gpu, |p| {
             pass.record(p, DT_FROM_CLOCK);
-            timestep.record(p, 0);
+            timestep.record(p, 1);
         })
         .unwrap();
 
@@ -281,27 +309,46 @@ mod tests {
             "watch {watched:e} against {moved2:e}"
         );
 
-        // The next Δt's candidates in slot 0, from the integrated particle state and the
-        // elements' dt; the integration from the clock left the clock and slot 1 alone.
+        // The box of parity 0: the nodes' extent (r from 0), to the bit; parity 1's emptied
+        // and the hit list with it.
+        let extent = |n: &crate::state::Nodes| {
+            [
+                float_key(n.r.iter().fold(0.0f32, |m, &r| m.max(r))),
+                float_key(n.z.iter().fold(f32::MAX, |m, &z| m.min(z))),
+                float_key(n.z.iter().fold(-f32::MAX, |m, &z| m.max(z))),
+            ]
+        };
+        let keys: Vec<u32> = gpu.read(&box_keys, 8).unwrap();
+        assert_eq!(keys[..3], extent(&back_nodes));
+        assert_eq!(keys[4..7], EMPTY_BOX[..3]);
+        assert_eq!(gpu.read::<u32>(&hits, 1).unwrap(), [0]);
+
+        // The next Δt's candidates in slot 1, from the integrated particle state and the
+        // elements' dt; the integration from the clock left the clock's Δt alone.
         let expect = crate::cpu::timestep::particle_dt(&back, &sph)
             .min(crate::cpu::timestep::element_dt(&sim.projectile.elements))
             * u.cfl;
         let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
         assert_eq!(words[0], dt.to_bits());
-        assert_eq!(&words[4..], &[1.0f32.to_bits(), 2.0f32.to_bits()]);
-        let next = slot_dt(words[2], words[3], u.cfl);
+        let next = slot_dt(words[4], words[5], u.cfl);
         // h/(c + |v| + …): a handful of roundings, and the driver may use a faster division.
         assert!(
             ((next - expect) / expect).abs() < 1.0e-5,
             "dt {next:e} against {expect:e}"
         );
 
-        // The next integration takes that Δt to the bit, says who set it, and empties slot 1.
-        run_once(&gpu, |p| pass.record(p, 0)).unwrap();
+        // The next integration (parity 1) takes that Δt to the bit, says who set it, empties
+        // slot 0 and box 0, and folds box 1.
+        gpu.write_at(&clock, 2, &stale);
+        run_once(&gpu, |p| pass.record(p, 1)).unwrap();
         let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
         assert_eq!(words[0], next.to_bits());
-        assert_eq!(words[1], u32::from(words[3] <= words[2]));
-        assert_eq!(&words[4..], &[f32::MAX.to_bits(); 2]);
+        assert_eq!(words[1], u32::from(words[5] <= words[4]));
+        assert_eq!(&words[2..4], &[f32::MAX.to_bits(); 2]);
+        gn.download(&gpu, &mut back_nodes).unwrap();
+        let keys: Vec<u32> = gpu.read(&box_keys, 8).unwrap();
+        assert_eq!(keys[4..7], extent(&back_nodes));
+        assert_eq!(keys[..3], EMPTY_BOX[..3]);
         let st: Vec<u32> = gpu.read(&status, STATUS_WORDS).unwrap();
         assert!(
             st.iter().all(|&w| w == STATUS_CLEAR),
@@ -327,13 +374,20 @@ mod tests {
         let slots = crate::gpu::timestep::DtSlots::new(&gpu);
         let x_build = gpu.zeros::<[f32; 2]>("x_build", gp.len);
         let grid_words = gpu.zeros::<u32>("grid words", MOVED2 + 1);
+        let (box_keys, hits) = (gpu.zeros::<u32>("box keys", 8), gpu.zeros::<u32>("hits", 1));
         let pass = IntegratePass::new(
             &gpu,
             &step,
             &clock,
             &status,
             &slots,
-            Some((&gp, &x_build, &grid_words)),
+            Some(TargetBindings {
+                particles: &gp,
+                x_build: &x_build,
+                grid_info: &grid_words,
+                box_keys: &box_keys,
+                hits: &hits,
+            }),
             &gn,
             &acc,
         )

@@ -109,7 +109,7 @@ impl Program {
             Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
             Program::Integrate => &["main"],
             Program::Timestep => &["fold"],
-            Program::ContactDetect => &["bounding_box", "detect", "gather", "apply"],
+            Program::ContactDetect => &["detect", "apply"],
         }
     }
 

@@ -232,7 +232,9 @@ mod tests {
     #[test]
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn sph_rates_on_stale_lists_match_cpu() {
-        use crate::gpu::integrate::{Accumulators, IntegratePass, STATUS_CLEAR, STATUS_WORDS};
+        use crate::gpu::integrate::{
+            Accumulators, IntegratePass, TargetBindings, STATUS_CLEAR, STATUS_WORDS,
+        };
         use crate::gpu::neighbours::{capacity, NeighboursPass, MOVED2_OFFSET};
         use crate::gpu::params::StepUniform;
         use crate::gpu::state::GpuNodes;
@@ -297,7 +299,13 @@ mod tests {
             &clock,
             &status,
             &slots,
-            Some((&gp, neighbours.x_build(), &grid.info)),
+            Some(TargetBindings {
+                particles: &gp,
+                x_build: neighbours.x_build(),
+                grid_info: &grid.info,
+                box_keys: &gpu.zeros::<u32>("box keys", 8),
+                hits: &gpu.zeros::<u32>("hits", 1),
+            }),
             &nodes,
             &acc,
         )

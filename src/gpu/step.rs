@@ -25,8 +25,9 @@ use super::contact_detect::ContactPass;
 use super::fem_forces::FemForcesPass;
 use super::fem_stress::FemStressPass;
 use super::integrate::{
-    Accumulators, IntegratePass, STATUS_CLEAR, STATUS_INVERTED_ELEMENT, STATUS_NODE_ESCAPED,
-    STATUS_NODE_NONFINITE, STATUS_PARTICLE_ESCAPED, STATUS_PARTICLE_NONFINITE, STATUS_WORDS,
+    Accumulators, IntegratePass, TargetBindings, STATUS_CLEAR, STATUS_INVERTED_ELEMENT,
+    STATUS_NODE_ESCAPED, STATUS_NODE_NONFINITE, STATUS_PARTICLE_ESCAPED, STATUS_PARTICLE_NONFINITE,
+    STATUS_WORDS,
 };
 use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::{FemUniform, SphUniform, StepUniform};
@@ -80,9 +81,10 @@ pub struct GpuStep {
     passes: Vec<Pass>,
     integrate: IntegratePass,
     timestep: TimestepPass,
-    /// The clock's slot of running minima the next time-step fold fills, and whether a fold
-    /// has filled it since the last integration (which then takes its Δt from it, empties
-    /// the other slot, and the two swap).
+    /// The parity of the next integration: the clock's slot of running minima the next
+    /// time-step fold fills and the integration takes its Δt from (unless no fold has run
+    /// yet), and the contact's box slot it folds the nodes into; it empties the other's, and
+    /// the two swap. And whether a fold has filled the slot since the last integration.
     dt_slot: u32,
     folded: bool,
     cfl: f32,
@@ -217,6 +219,7 @@ impl GpuStep {
         let plastic_total = gpu.zeros::<f32>("plastic work", s.projectile.elements.len());
         let acc = Accumulators::new(&gpu, n_particles, s.projectile.nodes.len());
         let mut uniforms = vec![step_uniform];
+        let slots = DtSlots::new(&gpu);
 
         let sph = match s.particles {
             Some((p, params)) => {
@@ -261,6 +264,7 @@ impl GpuStep {
                         &s.projectile.masters,
                         &particles,
                         &nodes,
+                        &slots,
                     )?)
                 } else {
                     None
@@ -302,15 +306,21 @@ impl GpuStep {
         } else {
             None
         };
-        let slots = DtSlots::new(&gpu);
         let integrate = IntegratePass::new(
             &gpu,
             &uniforms[0],
             &clock,
             &status,
             &slots,
-            sph.as_ref()
-                .map(|p| (&p.particles, p.neighbours.x_build(), &p.grid.info)),
+            sph.as_ref().and_then(|p| {
+                p.contact.as_ref().map(|c| TargetBindings {
+                    particles: &p.particles,
+                    x_build: p.neighbours.x_build(),
+                    grid_info: &p.grid.info,
+                    box_keys: &c.box_keys,
+                    hits: &c.hits,
+                })
+            }),
             &nodes,
             &acc,
         )?;
@@ -494,7 +504,7 @@ impl GpuStep {
         for p in self.passes.iter().filter(|p| !p.is_force()) {
             match (p, sph.and_then(|s| s.contact.as_ref())) {
                 (Pass::Integrate, _) => self.integrate.record(pass, dt_source),
-                (Pass::ContactDetect, Some(c)) => c.record_detect(pass),
+                (Pass::ContactDetect, Some(c)) => c.record_detect(pass, self.dt_slot),
                 // The correction runs on the host, between this submission and the next.
                 _ => continue,
             }
@@ -596,9 +606,9 @@ impl GpuStep {
         self.built(build);
         self.pending_forces = true;
         self.pending_fixes = 0;
-        if dt_source != DT_FROM_CLOCK {
-            self.dt_slot = 1 - self.dt_slot;
-        }
+        // The Δt's source is the clock only before the first fold, at parity 0.
+        debug_assert!(dt_source != DT_FROM_CLOCK || self.dt_slot == 0);
+        self.dt_slot = 1 - self.dt_slot;
         self.folded = false;
         let l = &self.layout;
         let bytes = self.gpu.map_read(&self.staging, size as usize)?;
