@@ -6,7 +6,9 @@
 // §2.4). Needs params.wgsl, step.wgsl, deviator.wgsl, johnson_cook.wgsl and steel_eos.wgsl.
 
 @group(0) @binding(0) var<uniform> u: FemUniform;
-@group(0) @binding(1) var<storage, read> clock: Clock;
+// Δt, and the running minima of the slot `fold_slot` the elements' stable steps fold into
+// (step.wgsl).
+@group(0) @binding(1) var<storage, read_write> clock: ClockAtomic;
 @group(0) @binding(2) var<storage, read_write> status: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read> r: array<f32>;
 @group(0) @binding(4) var<storage, read> z: array<f32>;
@@ -34,6 +36,7 @@
 @group(0) @binding(22) var<storage, read_write> plastic_total: array<f32>;
 // Elements.cells: cell c is elements cells[c]..cells[c + 1].
 @group(0) @binding(23) var<storage, read> cells: array<u32>;
+@group(0) @binding(24) var<uniform> fold_slot: DtSlot;
 
 // The material has a Johnson–Cook damage model (FemParams::damage): a pipeline constant, so a
 // material without one compiles without the damage update.
@@ -161,11 +164,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (c >= u.n_cells) { return; }
     let first = cells[c];
     let last = cells[c + 1u];
-    let step_dt = clock.dt;
+    let step_dt = bitcast<f32>(atomicLoad(&clock.dt_bits));
     // Every element's shared state is read before any of them is written.
     let cell = cell_eos(first, last, step_dt);
+    var least = F32_MAX_BITS;
     for (var e = first; e < last; e++) {
         update_element(e, cell, step_dt);
+        // Its stable step, new or (an element left as it was) old.
+        least = min(least, candidate_bits(dt[e]));
+    }
+    let w = 2u * fold_slot.slot + 1u;
+    if (least < atomicLoad(&clock.next[w])) {
+        atomicMin(&clock.next[w], least);
     }
 }
 

@@ -5,8 +5,9 @@
 // hoop source a_r += −σ_θθ n_i/(ρ r) (n_i: hoop_weight, from sph_rates); Monaghan–Gingold
 // viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled, the Balsara
 // switch on Π when enabled, and the work-conjugate energy rate.
-// Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`.
-// Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
+// Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`,
+// which also folds each particle's stable step into the clock (step.wgsl).
+// Needs params.wgsl, step.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
 
 @group(0) @binding(7) var<storage, read> rho: array<f32>;
@@ -30,6 +31,9 @@
 @group(0) @binding(23) var<storage, read_write> de_visc: array<f32>;
 @group(0) @binding(24) var<storage, read_write> mu_visc: array<f32>;
 @group(0) @binding(25) var<storage, read_write> de_work: array<f32>;
+// The clock's running minima of the slot `fold_slot` (step.wgsl).
+@group(0) @binding(26) var<storage, read_write> clock: ClockAtomic;
+@group(0) @binding(27) var<uniform> fold_slot: DtSlot;
 
 // The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
 // constant, so a scene without it compiles without it (a branch not taken still costs on a
@@ -162,4 +166,9 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     az[i] = g.acc.y / ri;
     de_visc[i] = g.heat;
     mu_visc[i] = g.mu_max;
+    let bits = particle_dt_bits(u.kernel.h, u.alpha, u.beta, ci.x, ki.zw, g.mu_max);
+    let w = 2u * fold_slot.slot;
+    if (bits < atomicLoad(&clock.next[w])) {
+        atomicMin(&clock.next[w], bits);
+    }
 }

@@ -4,19 +4,22 @@
 
 use super::shader::Program;
 use super::state::{GpuElements, GpuNodes};
+use super::timestep::DtSlots;
 use super::{Gpu, GpuError, Kernel};
 
 /// `fem_stress` advances every element over the clock's Δt and writes its nodal forces, stable
-/// step and plastic work (adding the work to `plastic_total`); an inverted element puts its
+/// step and plastic work (adding the work to `plastic_total`), and folds the stable steps into
+/// a slot of the clock's running minima (a bind group for each); an inverted element puts its
 /// index into the status word `STATUS_INVERTED_ELEMENT` (the smallest one wins).
 pub struct FemStressPass {
     kernel: Kernel,
-    bind: wgpu::BindGroup,
+    binds: [wgpu::BindGroup; 2],
     n_cells: u32,
 }
 
 impl FemStressPass {
-    /// `fem_uniform` holds a `params::FemUniform`, `clock` the step's `Clock`, `status` the
+    /// `fem_uniform` holds a `params::FemUniform`, `clock` the step's `Clock` (`slots` its
+    /// slots' uniforms), `status` the
     /// step's status words, `plastic_total` one f32 per element; `damage`: the material has
     /// Johnson–Cook damage (the update is compiled out otherwise); `n_cells`: the pressure
     /// cells in `elements.cells`.
@@ -29,6 +32,7 @@ impl FemStressPass {
         damage: bool,
         n_cells: usize,
         clock: &wgpu::Buffer,
+        slots: &DtSlots,
         status: &wgpu::Buffer,
         plastic_total: &wgpu::Buffer,
     ) -> Result<FemStressPass, GpuError> {
@@ -38,45 +42,50 @@ impl FemStressPass {
             &[("DAMAGE", f64::from(u8::from(damage)))],
         )?;
         let (n, e) = (nodes, elements);
-        let bind = kernel.bind(
-            gpu,
-            &[
-                ("u", fem_uniform),
-                ("clock", clock),
-                ("status", status),
-                ("r", &n.r),
-                ("z", &n.z),
-                ("vr", &n.vr),
-                ("vz", &n.vz),
-                ("nodes", &e.nodes),
-                ("volume0", &e.volume0),
-                ("s_rr", &e.s_rr),
-                ("s_zz", &e.s_zz),
-                ("s_rz", &e.s_rz),
-                ("s_tt", &e.s_tt),
-                ("p", &e.p),
-                ("energy", &e.energy),
-                ("eps_p", &e.eps_p),
-                ("temperature", &e.temperature),
-                ("damage", &e.damage),
-                ("failed", &e.failed),
-                ("force", &e.force),
-                ("dt", &e.dt),
-                ("plastic_work", &e.plastic_work),
-                ("plastic_total", plastic_total),
-                ("cells", &e.cells),
-            ],
-        )?;
+        let bind = |slot: u32| {
+            kernel.bind(
+                gpu,
+                &[
+                    ("fold_slot", slots.get(slot)),
+                    ("u", fem_uniform),
+                    ("clock", clock),
+                    ("status", status),
+                    ("r", &n.r),
+                    ("z", &n.z),
+                    ("vr", &n.vr),
+                    ("vz", &n.vz),
+                    ("nodes", &e.nodes),
+                    ("volume0", &e.volume0),
+                    ("s_rr", &e.s_rr),
+                    ("s_zz", &e.s_zz),
+                    ("s_rz", &e.s_rz),
+                    ("s_tt", &e.s_tt),
+                    ("p", &e.p),
+                    ("energy", &e.energy),
+                    ("eps_p", &e.eps_p),
+                    ("temperature", &e.temperature),
+                    ("damage", &e.damage),
+                    ("failed", &e.failed),
+                    ("force", &e.force),
+                    ("dt", &e.dt),
+                    ("plastic_work", &e.plastic_work),
+                    ("plastic_total", plastic_total),
+                    ("cells", &e.cells),
+                ],
+            )
+        };
+        let binds = [bind(0)?, bind(1)?];
         Ok(FemStressPass {
             kernel,
-            bind,
+            binds,
             n_cells: n_cells as u32,
         })
     }
 
-    /// Record `fem_stress`: one thread per pressure cell.
-    pub fn record(&self, pass: &mut wgpu::ComputePass) {
-        self.kernel.dispatch(pass, &self.bind, self.n_cells);
+    /// Record `fem_stress`, one thread per pressure cell, folding into the clock's `slot`.
+    pub fn record(&self, pass: &mut wgpu::ComputePass, slot: u32) {
+        self.kernel
+            .dispatch(pass, &self.binds[slot as usize], self.n_cells);
     }
 }
 
@@ -392,7 +401,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 
     /// Upload `nodes` and `elements`, record fem_stress (with Δt = `dt`) and fem_forces as
     /// asked in one compute pass, and read everything back; plastic_total starts at
-    /// `plastic_start`.
+    /// `plastic_start`. The stress pass's fold into the clock's slot 0 must be the least of
+    /// the elements' stable steps it leaves, to the bit.
     #[allow(clippy::too_many_arguments)]
     fn run_gpu(
         gpu: &Gpu,
@@ -419,6 +429,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             ),
         );
         let damage = params.damage.is_some();
+        let slots = crate::gpu::timestep::DtSlots::new(gpu);
         let stress_pass = FemStressPass::new(
             gpu,
             &gn,
@@ -427,6 +438,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             damage,
             elements.cells.len() - 1,
             &clock,
+            &slots,
             &status,
             &plastic_total,
         )
@@ -434,7 +446,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let forces_pass = FemForcesPass::new(gpu, &gn, &ge, &uniform).unwrap();
         run_once(gpu, |p| {
             if stress {
-                stress_pass.record(p);
+                stress_pass.record(p, 0);
             }
             if forces {
                 forces_pass.record(p);
@@ -449,6 +461,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         };
         ge.download(gpu, &mut back.elements).unwrap();
         gn.download(gpu, &mut back.nodes).unwrap();
+        if stress {
+            let candidate = |x: f32| {
+                if (0.0..=f32::MAX).contains(&x) {
+                    x.to_bits()
+                } else {
+                    f32::MAX.to_bits()
+                }
+            };
+            let least = back.elements.dt.iter().map(|&x| candidate(x)).min();
+            let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
+            assert_eq!(Some(words[3]), least, "the elements' fold");
+        }
         back
     }
 

@@ -51,12 +51,11 @@ pub enum Program {
     FemStress,
     FemForces,
     Integrate,
-    Timestep,
     ContactDetect,
 }
 
 impl Program {
-    pub const ALL: [Program; 12] = [
+    pub const ALL: [Program; 11] = [
         Program::Neighbours,
         Program::NeighbourList,
         Program::Scan,
@@ -67,7 +66,6 @@ impl Program {
         Program::FemStress,
         Program::FemForces,
         Program::Integrate,
-        Program::Timestep,
         Program::ContactDetect,
     ];
 
@@ -84,7 +82,6 @@ impl Program {
             Program::FemStress => "fem_stress",
             Program::FemForces => "fem_forces",
             Program::Integrate => "integrate",
-            Program::Timestep => "timestep",
             Program::ContactDetect => "contact_detect",
         }
     }
@@ -108,7 +105,6 @@ impl Program {
             Program::SphForces => &["prologue", "forces"],
             Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
             Program::Integrate => &["main"],
-            Program::Timestep => &["fold"],
             Program::ContactDetect => &["detect", "apply"],
         }
     }
@@ -135,12 +131,20 @@ impl Program {
             Program::Scan => vec![part!("scan.wgsl")],
             Program::SphRates => gather_parts(part!("sph_rates.wgsl")),
             Program::SphFilter => gather_parts(part!("sph_filter.wgsl")),
-            Program::SphForces => gather_parts(part!("sph_forces.wgsl")),
+            Program::SphForces => {
+                vec![
+                    PARAMS,
+                    STEP,
+                    GRID,
+                    GATHER_BINDINGS,
+                    NEIGHBOUR_LOOP,
+                    part!("sph_forces.wgsl"),
+                ]
+            }
             Program::Concrete => hjc_parts(part!("concrete.wgsl")),
             Program::FemStress => fem_stress_parts(part!("fem_stress.wgsl")),
             Program::FemForces => step_parts(part!("fem_forces.wgsl")),
             Program::Integrate => step_parts(part!("integrate.wgsl")),
-            Program::Timestep => step_parts(part!("timestep.wgsl")),
             Program::ContactDetect => step_parts(part!("contact_detect.wgsl")),
         }
     }

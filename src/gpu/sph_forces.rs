@@ -3,28 +3,33 @@
 use super::neighbours::GpuGrid;
 use super::shader::Program;
 use super::state::GpuParticles;
+use super::timestep::DtSlots;
 use super::{Gpu, GpuError, Kernel};
 
 /// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
 /// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
 /// and axis ghosts and writes ar, az, de_visc, mu_visc and de_work (fixed particles included, as on
-/// the CPU).
+/// the CPU), and folds each particle's stable step into a slot of the clock's running minima (a
+/// bind group for each).
 pub struct SphForcesPass {
     prologue: Kernel,
     forces: Kernel,
     prologue_bind: wgpu::BindGroup,
-    forces_bind: wgpu::BindGroup,
+    forces_binds: [wgpu::BindGroup; 2],
     n: u32,
     // The packed neighbour data (pair_s, pair_c), kept alive for the bind groups.
     _pairs: [wgpu::Buffer; 2],
 }
 
 impl SphForcesPass {
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         particles: &GpuParticles,
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
+        clock: &wgpu::Buffer,
+        slots: &DtSlots,
         art_stress: bool,
         balsara: bool,
     ) -> Result<SphForcesPass, GpuError> {
@@ -58,11 +63,16 @@ impl SphForcesPass {
             ("de_visc", &p.de_visc),
             ("mu_visc", &p.mu_visc),
             ("de_work", &p.de_work),
+            ("clock", clock),
         ];
         let buffers = [&grid.walk_bindings(&grid.kin)[..], &own].concat();
+        let with_slot = |slot: u32| [&buffers[..], &[("fold_slot", slots.get(slot))]].concat();
         Ok(SphForcesPass {
-            prologue_bind: prologue.bind(gpu, &buffers)?,
-            forces_bind: forces.bind(gpu, &buffers)?,
+            prologue_bind: prologue.bind(gpu, &with_slot(0))?,
+            forces_binds: [
+                forces.bind(gpu, &with_slot(0))?,
+                forces.bind(gpu, &with_slot(1))?,
+            ],
             prologue,
             forces,
             n: p.len as u32,
@@ -70,9 +80,11 @@ impl SphForcesPass {
         })
     }
 
-    pub fn record(&self, pass: &mut wgpu::ComputePass) {
+    /// Record the prologue and the gather, folding the stable steps into the clock's `slot`.
+    pub fn record(&self, pass: &mut wgpu::ComputePass, slot: u32) {
         self.prologue.dispatch(pass, &self.prologue_bind, self.n);
-        self.forces.dispatch(pass, &self.forces_bind, self.n);
+        self.forces
+            .dispatch(pass, &self.forces_binds[slot as usize], self.n);
     }
 }
 
@@ -109,10 +121,35 @@ mod tests {
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
-        let pass = SphForcesPass::new(&gpu, &gp, &grid, &uniform, art_on, sph.balsara).unwrap();
-        run_once(&gpu, |p| pass.record(p)).unwrap();
+        let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(sim.dt, false));
+        let slots = crate::gpu::timestep::DtSlots::new(&gpu);
+        let pass = SphForcesPass::new(
+            &gpu,
+            &gp,
+            &grid,
+            &uniform,
+            &clock,
+            &slots,
+            art_on,
+            sph.balsara,
+        )
+        .unwrap();
+        run_once(&gpu, |p| pass.record(p, 1)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
+
+        // The particles' stable steps folded into slot 1 (and nothing into slot 0): the CPU's
+        // least, from the GPU's own μ_max. h/(c + |v| + …): a handful of roundings, and the
+        // driver may use a faster division.
+        let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
+        assert_eq!(&words[2..4], &[f32::MAX.to_bits(); 2]);
+        assert_eq!(words[5], f32::MAX.to_bits());
+        let folded = f32::from_bits(words[4]);
+        let least = crate::cpu::timestep::particle_dt(&back, &sph);
+        assert!(
+            ((folded - least) / least).abs() < 1.0e-5,
+            "folded {folded:e} against {least:e}"
+        );
 
         let heated = cpu.de_visc.iter().filter(|&&x| x != 0.0).count();
         let tensile = cpu

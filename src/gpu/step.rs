@@ -33,7 +33,7 @@ use super::neighbours::{GpuGrid, NeighboursPass, MOVED2_OFFSET};
 use super::params::{FemUniform, SphUniform, StepUniform};
 use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
-use super::timestep::{DtSlots, TimestepPass, DT_FROM_CLOCK};
+use super::timestep::{DtSlots, DT_FROM_CLOCK};
 use super::traffic::{Charge, Tally, Traffic};
 use super::ReadBatch;
 use super::{Gpu, GpuError};
@@ -80,7 +80,6 @@ pub struct GpuStep {
     /// correction, `record_forces` the second half.
     passes: Vec<Pass>,
     integrate: IntegratePass,
-    timestep: TimestepPass,
     /// The parity of the next integration: the clock's slot of running minima the next
     /// time-step fold fills and the integration takes its Δt from (unless no fold has run
     /// yet), and the contact's box slot it folds the nodes into; it empties the other's, and
@@ -132,7 +131,7 @@ pub struct HostSeconds {
 }
 
 /// The step's passes in recording order, as the profiler names its intervals.
-pub const PROFILED: [&str; 10] = [
+pub const PROFILED: [&str; 9] = [
     "contact_apply",
     "neighbours",
     "sph_rates",
@@ -140,7 +139,6 @@ pub const PROFILED: [&str; 10] = [
     "sph_forces",
     "fem_stress",
     "fem_forces",
-    "timestep",
     "integrate",
     "contact_detect",
 ];
@@ -253,6 +251,8 @@ impl GpuStep {
                     &particles,
                     &grid,
                     &sph_uniform,
+                    &clock,
+                    &slots,
                     params.art_stress_eps > 0.0,
                     params.balsara,
                 )?;
@@ -297,6 +297,7 @@ impl GpuStep {
                     s.fem.damage.is_some(),
                     n_cells,
                     &clock,
+                    &slots,
                     &status,
                     &plastic_total,
                 )?,
@@ -323,15 +324,6 @@ impl GpuStep {
             }),
             &nodes,
             &acc,
-        )?;
-        let timestep = TimestepPass::new(
-            &gpu,
-            &uniforms[0],
-            &clock,
-            &slots,
-            sph.as_ref().map(|p| &p.particles),
-            if deformable { Some(&elements) } else { None },
-            &nodes.r,
         )?;
 
         let nn = s.projectile.nodes.len() as u64;
@@ -363,7 +355,6 @@ impl GpuStep {
             fem,
             passes: s.passes.to_vec(),
             integrate,
-            timestep,
             dt_slot: 0,
             folded: false,
             cfl: s.cfl,
@@ -480,8 +471,8 @@ impl GpuStep {
                 (Pass::Neighbours, Some(s), _) => s.neighbours.record(pass, build),
                 (Pass::SphRates, Some(s), _) => s.rates.record(pass),
                 (Pass::Concrete, Some(s), _) => s.concrete.record(pass),
-                (Pass::SphForces, Some(s), _) => s.forces.record(pass),
-                (Pass::FemStress, _, Some(f)) => f.stress.record(pass),
+                (Pass::SphForces, Some(s), _) => s.forces.record(pass, self.dt_slot),
+                (Pass::FemStress, _, Some(f)) => f.stress.record(pass, self.dt_slot),
                 (Pass::FemForces, _, Some(f)) => f.forces.record(pass),
                 // A pass is built exactly when it is in the list (`new`).
                 _ => {}
@@ -489,11 +480,9 @@ impl GpuStep {
             self.mark(pass, at);
             next = at + 1;
         }
-        for skipped in next..profiled_slot("timestep") {
+        for skipped in next..profiled_slot("integrate") {
             self.mark(pass, skipped);
         }
-        self.timestep.record(pass, self.dt_slot);
-        self.mark(pass, 8);
     }
 
     /// The first half of a step, up to what the host corrects: the scene's passes before its
@@ -554,7 +543,7 @@ impl GpuStep {
             if self.pending_forces {
                 self.record_forces(&mut pass, build);
             } else {
-                for slot in 1..=8 {
+                for slot in 1..profiled_slot("integrate") {
                     self.mark(&mut pass, slot);
                 }
             }

@@ -165,7 +165,7 @@ fn batched_reads_match_reads_one_by_one() {
 }
 
 /// Every pass the GPU records has a profiler slot, in the order the pass list runs them:
-/// the second half before the time step's, then the first half (the next step's).
+/// the second half, then the first half (the next step's).
 #[test]
 fn every_recorded_pass_has_its_profiler_slot_in_order() {
     let all = pass::for_scene(true, true);
@@ -173,7 +173,6 @@ fn every_recorded_pass_has_its_profiler_slot_in_order() {
         .iter()
         .filter(|p| p.is_force())
         .map(|p| profiled_slot(p.name()))
-        .chain([profiled_slot("timestep")])
         .chain(
             all.iter()
                 .filter(|p| !p.is_force() && **p != Pass::ContactCorrect)
