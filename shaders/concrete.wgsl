@@ -1,7 +1,9 @@
 // `concrete` (CPU twin: src/cpu/concrete.rs): per particle, the HJC update (physics.md §3.1) in
 // the OpenRadioss LAW126 order: density from continuity, EOS with crushing, trial deviator
 // (Jaumann), strength with the new pressure and the old damage, radial scaling, damage from
-// Δε_p + Δμ_p (in tension, with the crack band, Δε_p + the crack's opening); then the energy.
+// Δε_p + Δμ_p (in tension, with the crack band, Δε_p + the crack's opening); then the energy;
+// then what sph_forces reads of the new state (its CPU twin's prologue): σ/ρ², packed with what
+// a neighbour contributes for one load each, and the artificial stress when it is on.
 // Needs params.wgsl, deviator.wgsl and hjc.wgsl.
 
 @group(0) @binding(0) var<uniform> u: SphUniform;
@@ -26,9 +28,35 @@
 @group(0) @binding(19) var<storage, read_write> mu_max: array<f32>;
 @group(0) @binding(20) var<storage, read_write> eps_p: array<f32>;
 @group(0) @binding(21) var<storage, read_write> sound: array<f32>;
+@group(0) @binding(22) var<storage, read> m_tilde: array<f32>;
+@group(0) @binding(23) var<storage, read> visc_switch: array<f32>;
+// For sph_forces: σ/ρ² (the state's, for the host), R, and (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and
+// (c, ρ, factor on Π).
+@group(0) @binding(24) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
+@group(0) @binding(25) var<storage, read_write> art_stress: array<array<f32, 3>>;
+@group(0) @binding(26) var<storage, read_write> pair_s: array<vec4<f32>>;
+@group(0) @binding(27) var<storage, read_write> pair_c: array<vec4<f32>>;
 
 // target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
 override CONJUGATE: bool;
+// The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0), as in
+// sph_forces.wgsl.
+override ART_STRESS: bool;
+
+// Gray–Monaghan (2001) artificial stress over ρ² in (rr, zz, rz): R = −ε σ'/ρ² on each tensile
+// principal stress σ' of the r–z plane, rotated back; zero for compression.
+fn artificial_stress(eps: f32, srr: f32, szz: f32, srz: f32, density: f32) -> vec3<f32> {
+    let theta = 0.5 * atan2(2.0 * srz, srr - szz);
+    let sn = sin(theta);
+    let cs = cos(theta);
+    let s1 = cs * cs * srr + 2.0 * cs * sn * srz + sn * sn * szz;
+    let s2 = sn * sn * srr - 2.0 * cs * sn * srz + cs * cs * szz;
+    let inv = -eps / (density * density);
+    let r1 = select(0.0, inv * s1, s1 > 0.0);
+    let r2 = select(0.0, inv * s2, s2 > 0.0);
+    return vec3<f32>(cs * cs * r1 + sn * sn * r2, sn * sn * r1 + cs * cs * r2, cs * sn * (r1 - r2));
+}
+
 
 @compute @workgroup_size(WG)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -86,7 +114,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     s_zz[i] = s.y;
     s_rz[i] = s.z;
     s_tt[i] = s.w;
-    sound[i] = hjc_sound_speed(u, eos.tangent);
+    let c = hjc_sound_speed(u, eos.tangent);
+    sound[i] = c;
 
     // ė = σ:ε̇/ρ (θθ included), trapezoidal in the stress, plus viscous heating.
     let new_power = (s.x - eos.p) * d_rr
@@ -94,4 +123,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         + 2.0 * s.z * d_rz
         + (s.w - eos.p) * d_tt;
     strain_energy[i] = strain_energy[i] + dt * (0.5 * (old_power + new_power) / rho_new + de_visc[i]);
+
+    let inv = 1.0 / (rho_new * rho_new);
+    let sr = vec3<f32>((s.x - eos.p) * inv, (s.y - eos.p) * inv, s.z * inv);
+    stress_rho2[i] = array<f32, 3>(sr.x, sr.y, sr.z);
+    pair_s[i] = vec4<f32>(sr, m_tilde[i]);
+    pair_c[i] = vec4<f32>(c, rho_new, visc_switch[i], 0.0);
+    if (ART_STRESS) {
+        let a = artificial_stress(u.art_stress_eps, s.x - eos.p, s.y - eos.p, s.z, rho_new);
+        art_stress[i] = array<f32, 3>(a.x, a.y, a.z);
+    }
 }

@@ -5,27 +5,18 @@
 // hoop source a_r += −σ_θθ n_i/(ρ r) (n_i: hoop_weight, from sph_rates); Monaghan–Gingold
 // viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled, the Balsara
 // switch on Π when enabled, and the work-conjugate energy rate.
-// Two entry points over one binding list: `prologue` (σ/ρ² and R per particle), then `forces`,
-// which also folds each particle's stable step into the clock (step.wgsl).
+// It also folds each particle's stable step into the clock (step.wgsl).
 // Needs params.wgsl, step.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
 
-@group(0) @binding(7) var<storage, read> rho: array<f32>;
 @group(0) @binding(8) var<storage, read> p: array<f32>;
-@group(0) @binding(9) var<storage, read> s_rr: array<f32>;
-@group(0) @binding(10) var<storage, read> s_zz: array<f32>;
-@group(0) @binding(11) var<storage, read> s_rz: array<f32>;
 @group(0) @binding(12) var<storage, read> s_tt: array<f32>;
-@group(0) @binding(13) var<storage, read> sound: array<f32>;
-@group(0) @binding(14) var<storage, read> m_tilde: array<f32>;
-@group(0) @binding(15) var<storage, read> visc_switch: array<f32>;
 @group(0) @binding(16) var<storage, read> hoop_weight: array<f32>;
-// Written by `prologue`, read by `forces`: the state's σ/ρ² and R, and what a neighbour
-// contributes packed for one load each: (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and (c, ρ, factor on Π).
-@group(0) @binding(17) var<storage, read_write> stress_rho2: array<array<f32, 3>>;
-@group(0) @binding(18) var<storage, read_write> art_stress: array<array<f32, 3>>;
-@group(0) @binding(19) var<storage, read_write> pair_s: array<vec4<f32>>;
-@group(0) @binding(20) var<storage, read_write> pair_c: array<vec4<f32>>;
+// Written by `concrete` with the state: R, and what a neighbour contributes packed for one load
+// each, (σ_rr, σ_zz, σ_rz)/ρ² with m̃, and (c, ρ, factor on Π).
+@group(0) @binding(18) var<storage, read> art_stress: array<array<f32, 3>>;
+@group(0) @binding(19) var<storage, read> pair_s: array<vec4<f32>>;
+@group(0) @binding(20) var<storage, read> pair_c: array<vec4<f32>>;
 @group(0) @binding(21) var<storage, read_write> ar: array<f32>;
 @group(0) @binding(22) var<storage, read_write> az: array<f32>;
 @group(0) @binding(23) var<storage, read_write> de_visc: array<f32>;
@@ -47,36 +38,6 @@ const POW_BASE_FLOOR: f32 = 1.0e-30;
 
 fn vec3_of(a: array<f32, 3>) -> vec3<f32> {
     return vec3<f32>(a[0], a[1], a[2]);
-}
-
-// Gray–Monaghan (2001) artificial stress over ρ² in (rr, zz, rz): R = −ε σ'/ρ² on each tensile
-// principal stress σ' of the r–z plane, rotated back; zero for compression.
-fn artificial_stress(eps: f32, srr: f32, szz: f32, srz: f32, density: f32) -> vec3<f32> {
-    let theta = 0.5 * atan2(2.0 * srz, srr - szz);
-    let sn = sin(theta);
-    let cs = cos(theta);
-    let s1 = cs * cs * srr + 2.0 * cs * sn * srz + sn * sn * szz;
-    let s2 = sn * sn * srr - 2.0 * cs * sn * srz + cs * cs * szz;
-    let inv = -eps / (density * density);
-    let r1 = select(0.0, inv * s1, s1 > 0.0);
-    let r2 = select(0.0, inv * s2, s2 > 0.0);
-    return vec3<f32>(cs * cs * r1 + sn * sn * r2, sn * sn * r1 + cs * cs * r2, cs * sn * (r1 - r2));
-}
-
-// Per particle: total stress over ρ², and the artificial stress when it is on.
-@compute @workgroup_size(WG)
-fn prologue(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let j = gid.x;
-    if (j >= u.n) { return; }
-    let inv = 1.0 / (rho[j] * rho[j]);
-    let sr = vec3<f32>((s_rr[j] - p[j]) * inv, (s_zz[j] - p[j]) * inv, s_rz[j] * inv);
-    stress_rho2[j] = array<f32, 3>(sr.x, sr.y, sr.z);
-    pair_s[j] = vec4<f32>(sr, m_tilde[j]);
-    pair_c[j] = vec4<f32>(sound[j], rho[j], visc_switch[j], 0.0);
-    if (ART_STRESS) {
-        let a = artificial_stress(u.art_stress_eps, s_rr[j] - p[j], s_zz[j] - p[j], s_rz[j], rho[j]);
-        art_stress[j] = array<f32, 3>(a.x, a.y, a.z);
-    }
 }
 
 // What the neighbour loop accumulates for particle i, and i's own values it reads (loaded

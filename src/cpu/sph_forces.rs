@@ -45,28 +45,15 @@ use crate::state::{Particles, SphParams};
 /// η² of the viscosity's singularity guard, in units of h².
 pub(crate) const ETA2: f32 = 0.01;
 
-pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
-    let h = params.h;
-    let kernel = &params.kernel;
+/// What the gather reads of each particle's own state: σ/ρ² and, when it is on, the artificial
+/// stress R (the GPU writes them at the end of `concrete`, with the state).
+pub fn prologue(particles: &mut Particles, params: &SphParams) {
     let Particles {
-        r,
-        vr,
-        vz,
-        ar,
-        az,
         rho,
         p,
         s_rr,
         s_zz,
         s_rz,
-        s_tt,
-        sound,
-        de_visc,
-        de_work,
-        mu_visc,
-        visc_switch,
-        m_tilde,
-        hoop_weight,
         stress_rho2,
         art_stress,
         ..
@@ -93,6 +80,35 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 );
             }
         });
+}
+
+/// Particle accelerations, the viscous heating, the largest μ of each particle's pairs and the
+/// work-conjugate energy rate, after `prologue`.
+pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
+    prologue(particles, params);
+    let art_on = params.art_stress_eps > 0.0;
+    let h = params.h;
+    let kernel = &params.kernel;
+    let Particles {
+        r,
+        vr,
+        vz,
+        ar,
+        az,
+        rho,
+        p,
+        s_tt,
+        sound,
+        de_visc,
+        de_work,
+        mu_visc,
+        visc_switch,
+        m_tilde,
+        hoop_weight,
+        stress_rho2,
+        art_stress,
+        ..
+    } = particles;
     let (r, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
         &*r,
         &*vr,

@@ -9,11 +9,15 @@ use crate::state::SphParams;
 
 /// The HJC update of every particle over the clock's Δt: reads r, vr, the velocity gradient,
 /// drho, de_visc and (with the conjugate gradient) hoop_weight; advances rho, energy, p, the
-/// deviator, damage, mu_max, eps_p and sound.
+/// deviator, damage, mu_max, eps_p and sound; and writes what `sph_forces` reads of the new
+/// state (`cpu::sph_forces::prologue`): stress_rho2, art_stress (when it is on), and `pairs`.
 pub struct ConcretePass {
     kernel: Kernel,
     bind: wgpu::BindGroup,
     n: u32,
+    /// What a neighbour contributes to the gather, packed for one load each:
+    /// ((σ_rr, σ_zz, σ_rz)/ρ², m̃) and (c, ρ, factor on Π, 0).
+    pub pairs: [wgpu::Buffer; 2],
 }
 
 impl ConcretePass {
@@ -24,9 +28,16 @@ impl ConcretePass {
         clock: &wgpu::Buffer,
         params: &SphParams,
     ) -> Result<ConcretePass, GpuError> {
-        let conjugate = [("CONJUGATE", f64::from(u8::from(params.conjugate_gradient)))];
-        let kernel = gpu.kernel(Program::Concrete, "main", &conjugate)?;
+        let constants = [
+            ("CONJUGATE", f64::from(u8::from(params.conjugate_gradient))),
+            (
+                "ART_STRESS",
+                f64::from(u8::from(params.art_stress_eps > 0.0)),
+            ),
+        ];
+        let kernel = gpu.kernel(Program::Concrete, "main", &constants)?;
         let p = particles;
+        let pairs = ["pair_s", "pair_c"].map(|name| gpu.zeros::<[f32; 4]>(name, p.len));
         let bind = kernel.bind(
             gpu,
             &[
@@ -52,12 +63,19 @@ impl ConcretePass {
                 ("mu_max", &p.mu_max),
                 ("eps_p", &p.eps_p),
                 ("sound", &p.sound),
+                ("m_tilde", &p.m_tilde),
+                ("visc_switch", &p.visc_switch),
+                ("stress_rho2", &p.stress_rho2),
+                ("art_stress", &p.art_stress),
+                ("pair_s", &pairs[0]),
+                ("pair_c", &pairs[1]),
             ],
         )?;
         Ok(ConcretePass {
             kernel,
             bind,
             n: p.len as u32,
+            pairs,
         })
     }
 
@@ -368,6 +386,66 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         compare(&["target.velocity_gradient=\"corrected\"".into()]);
     }
 
+    #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+    fn concrete_with_artificial_stress_matches_cpu() {
+        compare(&["target.artificial_stress=true".into()]);
+    }
+
+    /// What the pass leaves for sph_forces is the CPU prologue's of the GPU's new state, and
+    /// the packed pairs hold exactly the state's values.
+    fn check_prologue(
+        gpu: &Gpu,
+        pass: &ConcretePass,
+        back: &crate::state::Particles,
+        sph: &SphParams,
+    ) {
+        let mut cpu = back.clone();
+        crate::cpu::sph_forces::prologue(&mut cpu, sph);
+        let art_on = sph.art_stress_eps > 0.0;
+        let tensile = cpu
+            .art_stress
+            .iter()
+            .filter(|a| a.iter().any(|&x| x != 0.0));
+        assert!(!art_on || tensile.count() > 0, "no artificial stress here");
+        let col = |v: &[[f32; 3]], k: usize| -> Vec<f32> { v.iter().map(|a| a[k]).collect() };
+        // σ/ρ²: a division and a product; R: atan2, sin and cos besides, a few ulp each on
+        // the GPU.
+        for k in 0..3 {
+            for (name, a, b, on, tol) in [
+                (
+                    "stress_rho2",
+                    &back.stress_rho2,
+                    &cpu.stress_rho2,
+                    true,
+                    1.0e-6,
+                ),
+                (
+                    "art_stress",
+                    &back.art_stress,
+                    &cpu.art_stress,
+                    art_on,
+                    1.0e-5,
+                ),
+            ] {
+                let e = field_error(&col(a, k), &col(b, k));
+                assert!(!on || e <= tol, "{name}[{k}]: relative error {e:e}");
+            }
+        }
+        let n = back.len();
+        let pair_s: Vec<[f32; 4]> = gpu.read(&pass.pairs[0], n).unwrap();
+        let pair_c: Vec<[f32; 4]> = gpu.read(&pass.pairs[1], n).unwrap();
+        for j in 0..n {
+            let [a, b, c] = back.stress_rho2[j];
+            assert_eq!(
+                pair_s[j].map(f32::to_bits),
+                [a, b, c, back.m_tilde[j]].map(f32::to_bits)
+            );
+            let own = [back.sound[j], back.rho[j], back.visc_switch[j], 0.0];
+            assert_eq!(pair_c[j].map(f32::to_bits), own.map(f32::to_bits));
+        }
+    }
+
     fn compare(overrides: &[String]) {
         let gpu = test_gpu();
         let mut sim = smoke(SMOKE_STEPS, overrides);
@@ -400,6 +478,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = sim.particles.clone();
         gp.download(&gpu, &mut back).unwrap();
+        check_prologue(&gpu, &pass, &back, &sph);
         let floor = crate::cpu::concrete::density_floor(&sph.concrete);
         assert_eq!(
             cpu.rho[separating], floor,

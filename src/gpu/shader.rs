@@ -102,7 +102,7 @@ impl Program {
             Program::Scan => &["scan_block", "scan_add"],
             Program::SphRates => &["gradient"],
             Program::SphFilter => &["filter_velocity"],
-            Program::SphForces => &["prologue", "forces"],
+            Program::SphForces => &["forces"],
             Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
             Program::Integrate => &["main"],
             Program::ContactDetect => &["detect", "apply"],
@@ -115,7 +115,7 @@ impl Program {
         match self {
             Program::SphRates => &["BALSARA", "CONJUGATE"],
             Program::SphForces => &["ART_STRESS", "BALSARA"],
-            Program::Concrete => &["CONJUGATE"],
+            Program::Concrete => &["CONJUGATE", "ART_STRESS"],
             Program::FemStress => &["DAMAGE"],
             _ => &[],
         }

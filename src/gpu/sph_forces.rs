@@ -6,19 +6,15 @@ use super::state::GpuParticles;
 use super::timestep::DtSlots;
 use super::{Gpu, GpuError, Kernel};
 
-/// Particle accelerations: `prologue` writes stress_rho2 (and art_stress when the artificial
-/// stress is on) from p, rho and the deviator; `forces` gathers over the grid's neighbours
-/// and axis ghosts and writes ar, az, de_visc, mu_visc and de_work (fixed particles included, as on
-/// the CPU), and folds each particle's stable step into a slot of the clock's running minima (a
-/// bind group for each).
+/// Particle accelerations: `forces` gathers over the grid's neighbours and axis ghosts what
+/// `concrete` packed (`ConcretePass::pairs`, and art_stress when the artificial stress is on)
+/// and writes ar, az, de_visc, mu_visc and de_work (fixed particles included, as on the CPU),
+/// and folds each particle's stable step into a slot of the clock's running minima (a bind
+/// group for each).
 pub struct SphForcesPass {
-    prologue: Kernel,
     forces: Kernel,
-    prologue_bind: wgpu::BindGroup,
-    forces_binds: [wgpu::BindGroup; 2],
+    binds: [wgpu::BindGroup; 2],
     n: u32,
-    // The packed neighbour data (pair_s, pair_c), kept alive for the bind groups.
-    _pairs: [wgpu::Buffer; 2],
 }
 
 impl SphForcesPass {
@@ -26,6 +22,7 @@ impl SphForcesPass {
     pub fn new(
         gpu: &Gpu,
         particles: &GpuParticles,
+        pairs: &[wgpu::Buffer; 2],
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
         clock: &wgpu::Buffer,
@@ -33,31 +30,20 @@ impl SphForcesPass {
         art_stress: bool,
         balsara: bool,
     ) -> Result<SphForcesPass, GpuError> {
-        let art = [
+        let constants = [
             ("ART_STRESS", f64::from(u8::from(art_stress))),
             ("BALSARA", f64::from(u8::from(balsara))),
         ];
-        let prologue = gpu.kernel(Program::SphForces, "prologue", &art)?;
-        let forces = gpu.kernel(Program::SphForces, "forces", &art)?;
+        let forces = gpu.kernel(Program::SphForces, "forces", &constants)?;
         let p = particles;
-        let pair_s = gpu.zeros::<[f32; 4]>("sph_forces pair_s", p.len);
-        let pair_c = gpu.zeros::<[f32; 4]>("sph_forces pair_c", p.len);
         let own = [
             ("u", sph_uniform),
-            ("rho", &p.rho),
             ("p", &p.p),
-            ("s_rr", &p.s_rr),
-            ("s_zz", &p.s_zz),
-            ("s_rz", &p.s_rz),
             ("s_tt", &p.s_tt),
-            ("sound", &p.sound),
-            ("m_tilde", &p.m_tilde),
-            ("visc_switch", &p.visc_switch),
             ("hoop_weight", &p.hoop_weight),
-            ("stress_rho2", &p.stress_rho2),
             ("art_stress", &p.art_stress),
-            ("pair_s", &pair_s),
-            ("pair_c", &pair_c),
+            ("pair_s", &pairs[0]),
+            ("pair_c", &pairs[1]),
             ("ar", &p.ar),
             ("az", &p.az),
             ("de_visc", &p.de_visc),
@@ -66,25 +52,21 @@ impl SphForcesPass {
             ("clock", clock),
         ];
         let buffers = [&grid.walk_bindings(&grid.kin)[..], &own].concat();
-        let with_slot = |slot: u32| [&buffers[..], &[("fold_slot", slots.get(slot))]].concat();
+        let bind = |slot: u32| {
+            let with_slot = [&buffers[..], &[("fold_slot", slots.get(slot))]].concat();
+            forces.bind(gpu, &with_slot)
+        };
         Ok(SphForcesPass {
-            prologue_bind: prologue.bind(gpu, &with_slot(0))?,
-            forces_binds: [
-                forces.bind(gpu, &with_slot(0))?,
-                forces.bind(gpu, &with_slot(1))?,
-            ],
-            prologue,
+            binds: [bind(0)?, bind(1)?],
             forces,
             n: p.len as u32,
-            _pairs: [pair_s, pair_c],
         })
     }
 
-    /// Record the prologue and the gather, folding the stable steps into the clock's `slot`.
+    /// Record the gather, folding the stable steps into the clock's `slot`.
     pub fn record(&self, pass: &mut wgpu::ComputePass, slot: u32) {
-        self.prologue.dispatch(pass, &self.prologue_bind, self.n);
         self.forces
-            .dispatch(pass, &self.forces_binds[slot as usize], self.n);
+            .dispatch(pass, &self.binds[slot as usize], self.n);
     }
 }
 
@@ -96,7 +78,23 @@ mod tests {
     use crate::gpu::params::SphUniform;
     use crate::gpu::{run_once, test_gpu};
 
-    /// One sph_forces pass agrees with cpu::sph_forces::run on the smoke state.
+    /// What `concrete` leaves for the gather (`ConcretePass::pairs`), from the CPU prologue's
+    /// stress_rho2 in `p`.
+    pub(crate) fn pairs(gpu: &Gpu, p: &crate::state::Particles) -> [wgpu::Buffer; 2] {
+        let s: Vec<[f32; 4]> = (0..p.len())
+            .map(|j| {
+                let [a, b, c] = p.stress_rho2[j];
+                [a, b, c, p.m_tilde[j]]
+            })
+            .collect();
+        let c: Vec<[f32; 4]> = (0..p.len())
+            .map(|j| [p.sound[j], p.rho[j], p.visc_switch[j], 0.0])
+            .collect();
+        [gpu.buffer("pair_s", &s), gpu.buffer("pair_c", &c)]
+    }
+
+    /// One sph_forces pass agrees with cpu::sph_forces::run on the smoke state, given what
+    /// the CPU's prologue makes of it.
     fn compare(overrides: &[String], lists: bool) {
         let gpu = test_gpu();
         let sim = smoke(SMOKE_STEPS, overrides);
@@ -116,8 +114,8 @@ mod tests {
         ] {
             v.fill(f32::NAN);
         }
-        start.stress_rho2.fill([f32::NAN; 3]);
-        start.art_stress.fill([f32::NAN; 3]);
+        crate::cpu::sph_forces::prologue(&mut start, &sph);
+        let pairs = pairs(&gpu, &start);
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
@@ -126,6 +124,7 @@ mod tests {
         let pass = SphForcesPass::new(
             &gpu,
             &gp,
+            &pairs,
             &grid,
             &uniform,
             &clock,
@@ -164,29 +163,14 @@ mod tests {
             "no artificial stress in the smoke state"
         );
 
-        let col = |v: &[[f32; 3]], k: usize| -> Vec<f32> { v.iter().map(|a| a[k]).collect() };
-        let mut fields = vec![
-            ("ar", back.ar.clone(), cpu.ar.clone()),
-            ("az", back.az.clone(), cpu.az.clone()),
-            ("de_visc", back.de_visc.clone(), cpu.de_visc.clone()),
-            ("de_work", back.de_work.clone(), cpu.de_work.clone()),
-            ("mu_visc", back.mu_visc.clone(), cpu.mu_visc.clone()),
+        let fields = [
+            ("ar", &back.ar, &cpu.ar),
+            ("az", &back.az, &cpu.az),
+            ("de_visc", &back.de_visc, &cpu.de_visc),
+            ("de_work", &back.de_work, &cpu.de_work),
+            ("mu_visc", &back.mu_visc, &cpu.mu_visc),
         ];
-        for k in 0..3 {
-            fields.push((
-                "stress_rho2",
-                col(&back.stress_rho2, k),
-                col(&cpu.stress_rho2, k),
-            ));
-            if art_on {
-                fields.push((
-                    "art_stress",
-                    col(&back.art_stress, k),
-                    col(&cpu.art_stress, k),
-                ));
-            }
-        }
-        for (name, a, b) in &fields {
+        for (name, a, b) in fields {
             let e = field_error(a, b);
             eprintln!("sph_forces {name}: relative error {e:e}");
             assert!(e <= 1.0e-5, "{name}: relative error {e:e}");

@@ -249,6 +249,7 @@ impl GpuStep {
                 let forces = super::sph_forces::SphForcesPass::new(
                     &gpu,
                     &particles,
+                    &concrete.pairs,
                     &grid,
                     &sph_uniform,
                     &clock,
