@@ -4,10 +4,15 @@
 //!
 //! ```text
 //! apply (k−1's corrected slaves) → neighbours → sph_rates → concrete → sph_forces
-//!   → fem_stress → fem_forces → Δt reduction (clock.dt = Δt_k)
-//!   → integrate (Δt_k) → displacement watch → contact detect
+//!   → fem_stress → fem_forces → integrate (Δt_k into the clock) → contact detect
 //!   → copy clock, watch, status, nodes, hits to the staging buffer (`readback.rs`)
 //! ```
+//!
+//! Each is one dispatch on a step that builds no lists: what a step reduces is folded where it
+//! is made, with an atomic only where a value widens the result (`sph_forces` and `fem_stress`
+//! the stable-step candidates, the integration the displacement since the list build and the
+//! projectile's bounding box), into slots that alternate with the integration's parity
+//! (`dt_slot`), so that no pass has to empty them before the next fold.
 //!
 //! then one mapping brings back Δt_k and whether the elements set it, how far the particles have
 //! moved since the neighbour lists were built, the status words, the nodes' positions and
