@@ -440,3 +440,70 @@ fn bench_splits_the_gpu_step_on_the_host() {
     assert!(rows[1].dispatches.is_none());
     assert!(bench::table(&rows).contains(" / "));
 }
+
+/// A sweep stepped as a batch on one GPU (`--batch`) gives each run exactly what it gives
+/// alone: history.csv and every frame to the byte. The runs end at different steps (the swept
+/// key is the end time), so members leave the batch while others go on; a batch larger than
+/// the sweep and a sweep on the CPU path are handled.
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn batched_sweep_runs_equal_their_solo_runs() {
+    use penetrate::studies::sweep::{self, RunSettings, Vary};
+    let root = std::env::temp_dir().join(format!("penetrate-batch-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let vary = Vary::parse("run.end_time=2e-5:5e-5:1e-5").unwrap();
+    let set = vec!["projectile.velocity=600".to_string()];
+    let adapter = std::env::var("PENETRATE_ADAPTER").ok();
+    let _ = gpu();
+    let run = |batch: usize, name: &str, backend: Backend| {
+        let settings = RunSettings {
+            adapter: adapter.clone(),
+            vtk: true,
+            batch,
+        };
+        let out = root.join(name);
+        let planned = sweep::plan_sweep(
+            &case("smoke.toml"),
+            &vary,
+            &set,
+            Some(backend),
+            &settings,
+            &out,
+        )
+        .unwrap();
+        sweep::sweep(planned, &vary, &settings, &out, |_| {}).map(|_| out)
+    };
+    let solo = run(1, "solo", Backend::Gpu).unwrap();
+    let batched = run(3, "batched", Backend::Gpu).unwrap();
+    let wide = run(8, "wide", Backend::Gpu).unwrap();
+    let mut compared = 0;
+    let members: Vec<_> = std::fs::read_dir(&solo)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_dir())
+        .collect();
+    assert_eq!(members.len(), 4, "{members:?}");
+    for member in members.iter().map(|p| p.file_name().unwrap()) {
+        let files: Vec<_> = std::fs::read_dir(solo.join(member))
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|f| f != "summary.json")
+            .collect();
+        assert!(files.iter().any(|f| f == "history.csv"), "{files:?}");
+        for f in &files {
+            let want = std::fs::read(solo.join(member).join(f)).unwrap();
+            for other in [&batched, &wide] {
+                let got = std::fs::read(other.join(member).join(f)).unwrap();
+                assert!(got == want, "{member:?}/{f:?} differs from the solo run's");
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 8, "{compared} files compared");
+    let refused = run(2, "cpu", Backend::Cpu).unwrap_err().to_string();
+    assert!(
+        refused.contains("--batch 2") && refused.contains("--backend gpu"),
+        "{refused}"
+    );
+    let _ = std::fs::remove_dir_all(&root);
+}

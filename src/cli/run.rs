@@ -88,6 +88,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         adapter,
         checkpoint_every,
         restart,
+        share: None,
     };
     match solver::run(&scene, &opts) {
         Ok(outcome) => {

@@ -86,6 +86,15 @@ pub struct SweepArgs {
     /// job array of the runs (`--emit slurm DIR`; submit with `sbatch DIR/sweep.sbatch`).
     #[arg(long, num_args = 2, value_names = ["SCHEDULER", "DIR"])]
     emit: Option<Vec<OsString>>,
+    /// Step N runs at a time together on one GPU, sharing each step's submission and wait
+    /// (each run's results are its own run's alone, to the bit) [default: 1].
+    #[arg(
+        long,
+        value_name = "N",
+        conflicts_with = "emit",
+        value_parser = clap::value_parser!(u32).range(1..=64)
+    )]
+    batch: Option<u32>,
     /// With --emit: the runs each array task makes one after the other [default: 1].
     #[arg(
         long,
@@ -108,7 +117,7 @@ pub struct SweepArgs {
     #[arg(
         long,
         value_name = "DIR",
-        conflicts_with_all = ["case", "vary", "set", "backend", "adapter", "out", "no_vtk", "emit"]
+        conflicts_with_all = ["case", "vary", "set", "backend", "adapter", "out", "no_vtk", "emit", "batch"]
     )]
     collect: Option<PathBuf>,
 }
@@ -253,6 +262,7 @@ pub fn sweep(args: SweepArgs) -> ExitCode {
         members_per_task,
         sbatch,
         collect,
+        batch,
     } = args;
     if let Some(dir) = collect {
         return sweep_collect(&dir);
@@ -286,6 +296,7 @@ pub fn sweep(args: SweepArgs) -> ExitCode {
     let settings = studies::sweep::RunSettings {
         adapter,
         vtk: !no_vtk,
+        batch: batch.map_or(1, |n| n as usize),
     };
     let planned = match studies::sweep::plan_sweep(&case, &vary, &set, backend, &settings, &out) {
         Ok(p) => p,

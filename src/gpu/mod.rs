@@ -8,6 +8,7 @@
 //! Nothing here panics on a missing or limited adapter: every failure is an `Err` naming what
 //! is missing (an adapter, a limit, a feature) so the command line can say so.
 
+pub mod batch;
 pub mod concrete;
 pub mod contact_detect;
 pub mod error;
@@ -232,6 +233,21 @@ impl Gpu {
     fn count(&self, bytes: u64) {
         self.allocated
             .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// The same device and queue for another run (`batch`): its own counts of allocations and
+    /// transfers, the device's errors shared.
+    pub fn share(&self) -> Gpu {
+        Gpu {
+            device: self.device.clone(),
+            queue: self.queue.clone(),
+            info: self.info.clone(),
+            limits: self.limits.clone(),
+            timestamps: self.timestamps,
+            errors: self.errors.clone(),
+            allocated: Default::default(),
+            traffic: Default::default(),
+        }
     }
 
     /// "name (backend)" for summaries.

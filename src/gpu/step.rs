@@ -24,8 +24,10 @@
 //! (`sync.rs`) runs a pending second half and copies what it reads in one submission waited for
 //! once, so that the GPU state is the CPU's after the same number of `Simulation::step` calls.
 
+use std::sync::Arc;
 use std::time::Instant;
 
+use super::batch::Batch;
 use super::contact_detect::ContactPass;
 use super::fem_forces::FemForcesPass;
 use super::fem_stress::FemStressPass;
@@ -124,6 +126,16 @@ pub struct GpuStep {
     /// the device's counts when they were last charged.
     pub traffic: Traffic,
     seen: Tally,
+    /// The runs this one submits its steps with, when it shares the device (`batch`).
+    batch: Option<Arc<Batch>>,
+}
+
+impl Drop for GpuStep {
+    fn drop(&mut self) {
+        if let Some(b) = &self.batch {
+            b.leave(&self.gpu.queue);
+        }
+    }
 }
 
 /// Host wall time of the steps' `advance` calls, summed: recording the command buffer, the
@@ -384,7 +396,16 @@ impl GpuStep {
             profiler: None,
             traffic: Traffic::default(),
             seen: Tally::default(),
+            batch: None,
         })
+    }
+
+    /// Submit the steps from now on with the other members of `batch` (on the same device).
+    pub fn join_batch(&mut self, batch: Arc<Batch>) {
+        batch.join();
+        if let Some(old) = self.batch.replace(batch) {
+            old.leave(&self.gpu.queue);
+        }
     }
 
     /// Time each pass with GPU timestamps from now on. False where the adapter has none.
@@ -596,7 +617,12 @@ impl GpuStep {
             encoder.copy_buffer_to_buffer(b, 0, &self.staging, l.nodes + k as u64 * nn, nn);
         }
         let recorded = Instant::now();
-        self.gpu.queue.submit([encoder.finish()]);
+        match &self.batch {
+            Some(b) => b.submit(&self.gpu.queue, encoder.finish()),
+            None => {
+                self.gpu.queue.submit([encoder.finish()]);
+            }
+        }
         let submitted = Instant::now();
         self.built(build);
         self.pending_forces = true;

@@ -2,11 +2,13 @@
 //! and outputs kept whole when it stops early.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::build::attach;
 use super::checkpoint::{self, Counters, Restart};
 use super::{Kept, Model, Output, OutputError, OutputFailure, RunError, Simulation};
+use crate::gpu::batch::GpuShare;
 use crate::mesh;
 use crate::output;
 use crate::output::frames::FrameWriter;
@@ -31,6 +33,9 @@ pub struct RunOptions {
     pub checkpoint_every: Option<f64>,
     /// Go on from this checkpoint instead of starting (`--restart`).
     pub restart: Option<PathBuf>,
+    /// Step on this device, submitting with the other runs of its batch (`sweep --batch`):
+    /// overrides `backend` and `adapter`.
+    pub share: Option<Arc<GpuShare>>,
 }
 
 impl RunOptions {
@@ -44,6 +49,7 @@ impl RunOptions {
             adapter: None,
             checkpoint_every: None,
             restart: None,
+            share: None,
         }
     }
 }
@@ -107,7 +113,16 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
         write_summary(&opts.out, &summary).map_err(early(Output::Summary))?;
         return Ok(RunOutcome { summary, ok: false });
     }
-    let fell_back = attach(&mut sim, backend, opts.adapter.as_deref())?;
+    let fell_back = match &opts.share {
+        Some(share) => {
+            sim.use_gpu(share.gpu.share())?;
+            if let Some(g) = sim.gpu_step() {
+                g.join_batch(share.batch.clone());
+            }
+            None
+        }
+        None => attach(&mut sim, backend, opts.adapter.as_deref())?,
+    };
     warn_from_estimate(scene, &opts.out, opts.vtk, fell_back.as_deref());
     let (mut history, mut pvd) = match &restart {
         Some(r) => r

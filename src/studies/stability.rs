@@ -273,6 +273,7 @@ pub fn run(
                         adapter: adapter.map(str::to_string),
                         checkpoint_every: None,
                         restart: None,
+                        share: None,
                     };
                     match solver::run(&scene, &opts) {
                         Ok(o) => Ok(o.summary),

@@ -6,7 +6,10 @@
 
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc, Mutex};
 
+use crate::gpu::batch::{Batch, GpuShare};
 use crate::output::summary::{fingerprint, same_build, Summary};
 use crate::scene::{self, Backend, Scene, SceneError};
 use crate::solver::{self, RunError, RunOptions};
@@ -229,6 +232,8 @@ pub struct RunSettings {
     pub adapter: Option<String>,
     /// Write VTK frames.
     pub vtk: bool,
+    /// Runs stepped together on one GPU (`--batch N`; 0 or 1: one after another).
+    pub batch: usize,
 }
 
 /// `--backend gpu` needs an adapter: say so before the first run rather than in every row.
@@ -249,37 +254,21 @@ pub fn check_backend(
     Ok(Some(gpu.adapter_name()))
 }
 
-/// Runs `planned` one after another, in process. A run that goes unstable or cannot start is
-/// recorded and the set goes on; only an unwritable output stops it. `progress` sees each
+/// Runs `planned` in process: one after another, or with `settings.batch` > 1 that many at a
+/// time stepping together on one GPU (`run_batched`). A run that goes unstable or cannot start
+/// is recorded and the set goes on; only an unwritable output stops it. `progress` sees each
 /// record as it is made.
 pub fn run_set(
     planned: Vec<Planned>,
     settings: &RunSettings,
     mut progress: impl FnMut(&RunRecord),
 ) -> Result<Vec<RunRecord>, SweepError> {
+    if settings.batch > 1 {
+        return run_batched(planned, settings, progress);
+    }
     let mut records = Vec::with_capacity(planned.len());
     for Planned { spec, scene } in planned {
-        let opts = RunOptions {
-            out: spec.dir.clone(),
-            quiet: true,
-            vtk: settings.vtk,
-            backend: Some(spec.backend),
-            adapter: settings.adapter.clone(),
-            checkpoint_every: None,
-            restart: None,
-        };
-        let outcome = match solver::run(&scene, &opts) {
-            Ok(o) => Ok(o.summary),
-            Err(RunError::Output(e)) => return Err(SweepError::Io(e.to_string())),
-            Err(e) => Err(e.to_string()),
-        };
-        let record = RunRecord {
-            label: spec.label,
-            dir: spec.dir,
-            backend: spec.backend,
-            scene,
-            outcome,
-        };
+        let record = run_one(spec, scene, settings, None)?;
         progress(&record);
         records.push(record);
         if crate::interrupt::requested() {
@@ -287,6 +276,113 @@ pub fn run_set(
         }
     }
     Ok(records)
+}
+
+/// One run of a set, on its own device or on the one `share` gives.
+fn run_one(
+    spec: RunSpec,
+    scene: Scene,
+    settings: &RunSettings,
+    share: Option<Arc<GpuShare>>,
+) -> Result<RunRecord, SweepError> {
+    let opts = RunOptions {
+        out: spec.dir.clone(),
+        quiet: true,
+        vtk: settings.vtk,
+        backend: Some(spec.backend),
+        adapter: settings.adapter.clone(),
+        checkpoint_every: None,
+        restart: None,
+        share,
+    };
+    let outcome = match solver::run(&scene, &opts) {
+        Ok(o) => Ok(o.summary),
+        Err(RunError::Output(e)) => return Err(SweepError::Io(e.to_string())),
+        Err(e) => Err(e.to_string()),
+    };
+    Ok(RunRecord {
+        label: spec.label,
+        dir: spec.dir,
+        backend: spec.backend,
+        scene,
+        outcome,
+    })
+}
+
+/// `settings.batch` runs at a time, each on a thread of its own, on one device whose
+/// submissions they share (`gpu::batch`): as one ends, the next planned run takes its place.
+/// Every run must be on the GPU. The records come back in the planned order.
+fn run_batched(
+    planned: Vec<Planned>,
+    settings: &RunSettings,
+    mut progress: impl FnMut(&RunRecord),
+) -> Result<Vec<RunRecord>, SweepError> {
+    if let Some(p) = planned.iter().find(|p| p.spec.backend != Backend::Gpu) {
+        return Err(SweepError::Backend(format!(
+            "--batch {}: the runs step together on one GPU, but {} is on the {} path: \
+             give --backend gpu",
+            settings.batch,
+            p.spec.label,
+            p.spec.backend.name()
+        )));
+    }
+    let gpu = crate::gpu::Gpu::new(settings.adapter.as_deref())
+        .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))?;
+    let share = Arc::new(GpuShare {
+        gpu,
+        batch: Batch::new(),
+    });
+    let n = planned.len();
+    let queue = &Mutex::new(planned.into_iter().enumerate());
+    // Set when an output cannot be written: the runs under way finish, no new one starts.
+    let stop = &AtomicBool::new(false);
+    let mut records: Vec<Option<RunRecord>> = vec![None; n];
+    let mut error = None;
+    let (tx, rx) = mpsc::channel();
+    std::thread::scope(|scope| {
+        for _ in 0..settings.batch.min(n) {
+            let (tx, share) = (tx.clone(), share.clone());
+            scope.spawn(move || loop {
+                if stop.load(Ordering::Relaxed) || crate::interrupt::requested() {
+                    return;
+                }
+                let next = queue.lock().unwrap_or_else(|e| e.into_inner()).next();
+                let Some((k, Planned { spec, scene })) = next else {
+                    return;
+                };
+                let result = run_one(spec, scene, settings, Some(share.clone()));
+                if tx.send((k, result)).is_err() {
+                    return;
+                }
+            });
+        }
+        drop(tx);
+        for (k, result) in rx {
+            match result {
+                Ok(record) => {
+                    progress(&record);
+                    records[k] = Some(record);
+                }
+                Err(e) => {
+                    stop.store(true, Ordering::Relaxed);
+                    error.get_or_insert(e);
+                }
+            }
+        }
+    });
+    let (submissions, steps) = share.batch.counts();
+    if submissions > 0 {
+        eprintln!(
+            "penetrate sweep --batch {}: {steps} steps in {submissions} submissions ({:.2} a \
+             submission)",
+            settings.batch,
+            steps as f64 / submissions as f64
+        );
+    }
+    match error {
+        Some(e) => Err(e),
+        None => Ok(records.into_iter().flatten().collect()),
+    }
 }
 
 /// Why a run folder holds no summary of the run asked for ([`summary_left`]).
@@ -585,6 +681,7 @@ mod tests {
             adapter: None,
             checkpoint_every: None,
             restart: None,
+            share: None,
         };
         solver::run(&scene, &opts).unwrap();
         let taken = || completed_run(&dir, &scene, Backend::Cpu, None, false, &[]);

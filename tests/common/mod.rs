@@ -19,6 +19,7 @@ pub fn run_cpu(scene: &Scene, out: &Path, vtk: bool) -> RunOutcome {
             adapter: None,
             checkpoint_every: None,
             restart: None,
+            share: None,
         },
     )
     .unwrap()

@@ -77,6 +77,7 @@ impl Context<'_> {
         let settings = RunSettings {
             adapter: self.opts.adapter.clone(),
             vtk,
+            batch: 1,
         };
         let mut records = Vec::with_capacity(planned.len());
         for p in planned {
