@@ -719,3 +719,64 @@ fn damage_area_of_a_fully_damaged_projectile_is_its_section() {
         );
     }
 }
+
+/// `--batch 4` steps the GPU runs together and changes none of them: each run's history.csv
+/// is the one-by-one validation's, to the byte, and the report has the same rows but for the
+/// runs' wall times. Needs a GPU adapter (lavapipe in CI).
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn a_batched_validation_changes_no_run() {
+    let one = scratch("validate-one-by-one");
+    let batched = scratch("validate-batched");
+    let o = quick_only("gpu", "forrestal", &one);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let data = data();
+    let o = penetrate(&[
+        "validate",
+        "--quick",
+        "--backend",
+        "gpu",
+        "--only",
+        "forrestal",
+        "--batch",
+        "4",
+        "--out",
+        batched.to_str().unwrap(),
+        "--data",
+        data.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--batch 4:"), "{}", stderr(&o));
+    let runs: Vec<_> = std::fs::read_dir(one.join("forrestal/runs"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(runs.len(), 4, "{runs:?}");
+    for run in &runs {
+        let history =
+            |out: &Path| std::fs::read(out.join("forrestal/runs").join(run).join("history.csv"));
+        assert!(
+            history(&one).unwrap() == history(&batched).unwrap(),
+            "{run:?}"
+        );
+    }
+    let rows = |out: &Path| -> Vec<String> {
+        let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+        report
+            .lines()
+            // The shots' table: one row per run, its status last.
+            .filter(|l| l.ends_with("| completed |"))
+            .map(|l| {
+                // The runs' own numbers, without the wall time (the last number but one).
+                let cells: Vec<&str> = l.split('|').collect();
+                [&cells[..cells.len() - 3], &cells[cells.len() - 2..]]
+                    .concat()
+                    .join("|")
+            })
+            .collect()
+    };
+    assert_eq!(rows(&one).len(), 4);
+    assert_eq!(rows(&one), rows(&batched));
+    let _ = std::fs::remove_dir_all(&one);
+    let _ = std::fs::remove_dir_all(&batched);
+}

@@ -161,6 +161,11 @@ pub struct ValidateArgs {
     /// after a change to the report alone. The report lists the build of every run.
     #[arg(long, value_delimiter = ',')]
     resume_build: Vec<String>,
+    /// Step the runs on the GPU N at a time together, sharing each step's submission and wait
+    /// (each run's results are its own run's alone, to the bit).
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=64))]
+    batch: u32,
 }
 
 /// Times the step at each size and prints the table: 0, or 1 where a size could not be run.
@@ -469,6 +474,7 @@ pub fn validate(args: ValidateArgs) -> ExitCode {
         data,
         resume,
         resume_build,
+        batch,
     } = args;
     let only = match only
         .iter()
@@ -488,6 +494,7 @@ pub fn validate(args: ValidateArgs) -> ExitCode {
         only,
         resume,
         resume_builds: resume_build,
+        batch: batch as usize,
     };
     match studies::validate::run(&opts, &mut |line| eprintln!("{line}")) {
         Ok(o) => {

@@ -53,8 +53,10 @@ impl Context<'_> {
         self.opts.out.join(section.name())
     }
 
-    /// Runs `asks` in order, reusing any earlier run of the same resolved scene on the same
-    /// backend. Every scene is loaded before the first run.
+    /// Runs `asks`, reusing any earlier run of the same resolved scene on the same backend,
+    /// and returns their records in the order asked. Every scene is loaded before the first
+    /// run; the runs still to make go one after another, those on the GPU `opts.batch` at a
+    /// time (`sweep --batch`).
     pub(super) fn run(
         &mut self,
         section: Section,
@@ -74,90 +76,125 @@ impl Context<'_> {
             .collect();
         let planned = sweep::plan(specs)
             .map_err(|e| ValidateError::Input(format!("{}: {e}", section.name())))?;
-        let settings = RunSettings {
-            adapter: self.opts.adapter.clone(),
-            vtk,
-            batch: 1,
-        };
-        let mut records = Vec::with_capacity(planned.len());
-        for p in planned {
-            let earlier = self
-                .done
-                .iter()
-                .find(|r| r.backend == p.spec.backend && r.scene == p.scene);
-            if let Some(r) = earlier {
+        let mut records: Vec<Option<RunRecord>> = vec![None; planned.len()];
+        // The runs to make, by the place they were asked at; and asks of a run already among
+        // them, which take its record.
+        let mut todo: Vec<(usize, sweep::Planned)> = Vec::new();
+        let mut twins: Vec<(usize, usize)> = Vec::new();
+        for (k, p) in planned.into_iter().enumerate() {
+            let same = |b: Backend, s: &Scene| b == p.spec.backend && *s == p.scene;
+            if let Some(r) = self.done.iter().find(|r| same(r.backend, &r.scene)) {
                 self.reused += 1;
-                records.push(r.clone());
+                records[k] = Some(r.clone());
                 continue;
             }
-            let (label, backend) = (p.spec.label.clone(), p.spec.backend);
-            let made = self.done.len() + 1;
-            let estimate = self.estimate.max(made);
-            let earlier_process = self
-                .opts
-                .resume
-                .then(|| {
-                    let adapter = self.gpu_adapter.as_deref();
-                    let other = &self.opts.resume_builds;
-                    self.resume_candidates(&p.spec.dir)
-                        .into_iter()
-                        .find_map(|dir| {
-                            sweep::completed_run(&dir, &p.scene, backend, adapter, vtk, other)
-                                .map(|summary| (dir, summary))
-                        })
-                })
-                .flatten();
+            if let Some(&(first, _)) = todo.iter().find(|(_, q)| same(q.spec.backend, &q.scene)) {
+                self.reused += 1;
+                twins.push((k, first));
+                continue;
+            }
+            match self.resumed_run(section, &p, vtk) {
+                Some(r) => {
+                    self.resumed += 1;
+                    self.done.push(r.clone());
+                    records[k] = Some(r);
+                }
+                None => todo.push((k, p)),
+            }
+        }
+        let (on_gpu, rest): (Vec<_>, Vec<_>) = todo
+            .into_iter()
+            .partition(|(_, p)| p.spec.backend == Backend::Gpu);
+        for (group, batch) in [(rest, 1), (on_gpu, self.opts.batch)] {
+            let (places, planned): (Vec<usize>, Vec<sweep::Planned>) = group.into_iter().unzip();
+            if planned.is_empty() {
+                continue;
+            }
+            let settings = RunSettings {
+                adapter: self.opts.adapter.clone(),
+                vtk,
+                batch,
+            };
+            let made_before = self.done.len();
+            let estimate = self.estimate;
             let progress = &mut *self.progress;
-            if let Some((dir, summary)) = earlier_process {
-                let r = RunRecord {
-                    label,
-                    dir,
-                    backend,
-                    scene: p.scene,
-                    outcome: Ok(summary),
-                };
+            let mut made = made_before;
+            let new = sweep::run_set(planned, &settings, |r| {
+                made += 1;
                 progress(&format!(
-                    "[{made}/≤{estimate}] {} {} on {}: {} (resumed from {})",
+                    "[{made}/≤{}] {} {} on {}: {}",
+                    estimate.max(made),
                     section.name(),
                     r.label,
-                    backend.name(),
-                    describe(&r),
-                    r.dir.display()
-                ));
-                self.resumed += 1;
-                self.done.push(r.clone());
-                records.push(r);
-                continue;
-            }
-            let mut new = sweep::run_set(vec![p], &settings, |r| {
-                progress(&format!(
-                    "[{made}/≤{estimate}] {} {label} on {}: {}",
-                    section.name(),
-                    backend.name(),
+                    r.backend.name(),
                     describe(r)
                 ))
             })?;
             if crate::interrupt::requested() {
                 return Err(ValidateError::Interrupted(format!(
-                    "interrupted in {} {label} on {} (its run stopped where it was); run the \
-                     same command with --resume to go on",
+                    "interrupted in {} (a run under way stopped where it was); run the same \
+                     command with --resume to go on",
                     section.name(),
-                    backend.name()
                 )));
             }
-            let Some(r) = new.pop() else { continue };
-            if r.completed().is_none() {
-                self.failed.push(format!(
-                    "{} {label} on {}: {}",
-                    section.name(),
-                    backend.name(),
-                    r.status()
-                ));
+            for (k, r) in places.into_iter().zip(new) {
+                if r.completed().is_none() {
+                    self.failed.push(format!(
+                        "{} {} on {}: {}",
+                        section.name(),
+                        r.label,
+                        r.backend.name(),
+                        r.status()
+                    ));
+                }
+                self.done.push(r.clone());
+                records[k] = Some(r);
             }
-            self.done.push(r.clone());
-            records.push(r);
         }
-        Ok(records)
+        for (k, first) in twins {
+            records[k] = records[first].clone();
+        }
+        Ok(records.into_iter().flatten().collect())
+    }
+
+    /// With `--resume`, an earlier process's completed run of `p` (said in the progress).
+    fn resumed_run(
+        &mut self,
+        section: Section,
+        p: &sweep::Planned,
+        vtk: bool,
+    ) -> Option<RunRecord> {
+        if !self.opts.resume {
+            return None;
+        }
+        let backend = p.spec.backend;
+        let adapter = self.gpu_adapter.as_deref();
+        let other = &self.opts.resume_builds;
+        let (dir, summary) = self
+            .resume_candidates(&p.spec.dir)
+            .into_iter()
+            .find_map(|dir| {
+                sweep::completed_run(&dir, &p.scene, backend, adapter, vtk, other)
+                    .map(|summary| (dir, summary))
+            })?;
+        let r = RunRecord {
+            label: p.spec.label.clone(),
+            dir,
+            backend,
+            scene: p.scene.clone(),
+            outcome: Ok(summary),
+        };
+        let made = self.done.len() + 1;
+        (self.progress)(&format!(
+            "[{made}/≤{}] {} {} on {}: {} (resumed from {})",
+            self.estimate.max(made),
+            section.name(),
+            r.label,
+            backend.name(),
+            describe(&r),
+            r.dir.display()
+        ));
+        Some(r)
     }
 
     /// Where `--resume` looks for an earlier process's run that `own` would hold: `own` first,

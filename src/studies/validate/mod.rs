@@ -170,6 +170,8 @@ pub struct Options {
     /// With `resume`, also take runs made by these builds (their fingerprints, 16 hex digits):
     /// the report lists the build of every run it used.
     pub resume_builds: Vec<String>,
+    /// Runs on the GPU stepped this many at a time together (`sweep --batch`).
+    pub batch: usize,
 }
 
 /// How a validation ended (its accuracy is in the report, not here).
