@@ -42,6 +42,9 @@
 // Written by `pack` for the gathers: the per-radian mass m̃ = m/(2π r) and the planar area m̃/ρ.
 @group(0) @binding(14) var<storage, read_write> m_tilde: array<f32>;
 @group(0) @binding(15) var<storage, read_write> area: array<f32>;
+// And what sph_rates reads of a neighbour, packed for one load: (m̃/ρ, (m̃/ρ) ρ, m̃, r floored as
+// hoop_radius floors it).
+@group(0) @binding(16) var<storage, read_write> rate_pair: array<vec4<f32>>;
 
 // 2π in f32, as the CPU's 2.0 * std::f32::consts::PI.
 const TWO_PI: f32 = 2.0 * PI;
@@ -152,8 +155,8 @@ fn count(@builtin(global_invocation_id) gid: vec3<u32>) {
     x_build[i] = vec2<f32>(r[i], z[i]);
 }
 
-// Every step, before the gathers: the packed kinematics and the areas (cpu::sph_rates::run's
-// first loop), and the displacement watch reset.
+// Every step, before the gathers: the packed kinematics, the areas (cpu::sph_rates::run's
+// first loop) and sph_rates' packed neighbour data, and the displacement watch reset.
 @compute @workgroup_size(WG)
 fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
@@ -162,9 +165,12 @@ fn pack(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if (i >= u.n) { return; }
     kin[i] = vec4<f32>(r[i], z[i], vr[i], vz[i]);
-    let mt = mass[i] / (TWO_PI * hoop_radius(r[i], u.kernel.h));
+    let ri = hoop_radius(r[i], u.kernel.h);
+    let mt = mass[i] / (TWO_PI * ri);
+    let a = mt / rho[i];
     m_tilde[i] = mt;
-    area[i] = mt / rho[i];
+    area[i] = a;
+    rate_pair[i] = vec4<f32>(a, a * rho[i], mt, ri);
 }
 
 @compute @workgroup_size(WG)

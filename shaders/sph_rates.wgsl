@@ -5,14 +5,14 @@
 // L is the conjugate gradient (1/ρ_i) Σ m̃_j (v_j − v_i) ⊗ ∇W, uncorrected, and the hoop rate
 // n_i v_r/r (sph_rates.rs). Both modes write the hoop weight
 // n_i = Σ m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i, which sph_forces and concrete read.
-// m̃ and m̃/ρ are the neighbours pass's (`pack`, this step's positions).
+// m̃ and m̃/ρ are the neighbours pass's (`pack`, this step's positions), which packs what a
+// neighbour gives here for one load (`rate_pair`: m̃/ρ, (m̃/ρ) ρ, m̃, hoop_radius(r)).
 // Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
 
 @group(0) @binding(7) var<storage, read> rho: array<f32>;
 @group(0) @binding(8) var<storage, read> sound: array<f32>;
-@group(0) @binding(9) var<storage, read> m_tilde: array<f32>;
-@group(0) @binding(10) var<storage, read> area: array<f32>;
+@group(0) @binding(9) var<storage, read> rate_pair: array<vec4<f32>>;
 @group(0) @binding(11) var<storage, read_write> l_rr: array<f32>;
 @group(0) @binding(12) var<storage, read_write> l_rz: array<f32>;
 @group(0) @binding(13) var<storage, read_write> l_zr: array<f32>;
@@ -42,10 +42,11 @@ struct Gather {
 }
 
 fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
-    var a = area[j];
+    let nb = rate_pair[j];
+    var a = nb.x;
     if (CONJUGATE) {
         // sph_rates.rs: m̃_j/ρ_i, in the CPU's order (area ρ_j)/ρ_i.
-        a = a * rho[j] / (*acc).rho_i;
+        a = nb.y / (*acc).rho_i;
     }
     let gw = kernel_grad(u.kernel, d, dist);
     let vj = kin[j].zw;
@@ -55,8 +56,8 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
     (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
     (*acc).m -= vec4<f32>(a * d.x * gw.x, a * d.x * gw.y, a * d.y * gw.x, a * d.y * gw.y);
     let ri = (*acc).ri;
-    let rj = hoop_radius(kin[j].x, u.kernel.h);
-    (*acc).weight += m_tilde[j] * (sign * ri + sign * rj - 2.0 * ri) * gw.x;
+    let rj = nb.w;
+    (*acc).weight += nb.z * (sign * ri + sign * rj - 2.0 * ri) * gw.x;
 }
 
 // sph_rates.rs `correct`: L = G M⁻¹ where det M is large enough, else G.

@@ -19,6 +19,9 @@ pub struct GpuGrid {
     pub nbr: wgpu::Buffer,
     pub nbr_count: wgpu::Buffer,
     pub kin: wgpu::Buffer,
+    /// What sph_rates reads of a neighbour, packed for one load (neighbours.wgsl `pack`):
+    /// (m̃/ρ, (m̃/ρ) ρ, m̃, hoop_radius(r)).
+    pub rate_pair: wgpu::Buffer,
 }
 
 /// Neighbours a list holds per particle (shaders/neighbour_loop.wgsl NBR_MAX). A concrete
@@ -59,6 +62,7 @@ impl GpuGrid {
             nbr: gpu.zeros::<u32>("neighbour lists", NBR_MAX * n),
             nbr_count: gpu.zeros::<u32>("neighbour counts", n),
             kin: gpu.zeros::<[f32; 4]>("packed kinematics", n),
+            rate_pair: gpu.zeros::<[f32; 4]>("packed rate data", n),
         })
     }
 }
@@ -157,6 +161,7 @@ impl NeighboursPass {
                 ("rho", &particles.rho),
                 ("m_tilde", &particles.m_tilde),
                 ("area", &particles.area),
+                ("rate_pair", &grid.rate_pair),
             ],
         )?;
         let pass = NeighboursPass {
@@ -232,6 +237,7 @@ pub(crate) mod tests {
         particles: &crate::state::Particles,
         sph_uniform: &wgpu::Buffer,
         g: &CellGrid,
+        h: f32,
         lists: bool,
     ) -> GpuGrid {
         let cells = g.n_r * g.n_z;
@@ -249,6 +255,14 @@ pub(crate) mod tests {
         let p = particles;
         let kin: Vec<[f32; 4]> = (0..n).map(|i| [p.r[i], p.z[i], p.vr[i], p.vz[i]]).collect();
         gpu.write(&grid.kin, &kin);
+        // sph_rates' packed data as `pack` makes it, from the particles' areas.
+        let pairs: Vec<[f32; 4]> = (0..n)
+            .map(|i| {
+                let (a, r) = (p.area[i], crate::cpu::sph_rates::hoop_radius(p.r[i], h));
+                [a, a * p.rho[i], p.m_tilde[i], r]
+            })
+            .collect();
+        gpu.write(&grid.rate_pair, &pairs);
         if lists {
             let list = ListKernel::new(gpu, &grid, sph_uniform).unwrap();
             run_once(gpu, |p| list.kernel.dispatch(p, &list.bind, n as u32)).unwrap();
@@ -264,9 +278,10 @@ pub(crate) mod tests {
         overflow: u32,
         /// Per particle: its listed neighbours as (j, mirror), or None where the list overflowed.
         lists: Vec<Option<Vec<(usize, bool)>>>,
-        /// The areas `pack` wrote, m̃ and m̃/ρ.
+        /// The areas `pack` wrote, m̃ and m̃/ρ, and sph_rates' packed data.
         m_tilde: Vec<f32>,
         area: Vec<f32>,
+        rate_pair: Vec<[f32; 4]>,
     }
 
     /// Build the GPU grid and lists for `particles` (twice, to exercise the reset of the
@@ -318,6 +333,7 @@ pub(crate) mod tests {
             lists,
             m_tilde: gpu.read(&gp.m_tilde, n).unwrap(),
             area: gpu.read(&gp.area, n).unwrap(),
+            rate_pair: gpu.read(&grid.rate_pair, n).unwrap(),
         }
     }
 
@@ -358,6 +374,22 @@ pub(crate) mod tests {
         ] {
             let e = crate::gpu::concrete::tests::field_error(a, b);
             assert!(e <= 1.0e-5, "{name}: relative error {e:e}");
+        }
+        // The packed data is the areas `pack` wrote, ρ and r, as the rates would make them.
+        let h = sph.h;
+        for i in 0..p.len() {
+            let (a, mt) = (built.area[i], built.m_tilde[i]);
+            let want = [
+                a,
+                a * p.rho[i],
+                mt,
+                crate::cpu::sph_rates::hoop_radius(p.r[i], h),
+            ];
+            assert_eq!(
+                built.rate_pair[i].map(f32::to_bits),
+                want.map(f32::to_bits),
+                "{i}"
+            );
         }
     }
 

@@ -118,7 +118,7 @@ mod tests {
         let pairs = pairs(&gpu, &start);
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
-        let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
+        let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, sph.h, lists);
         let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(sim.dt, false));
         let slots = crate::gpu::timestep::DtSlots::new(&gpu);
         let pass = SphForcesPass::new(

@@ -8,7 +8,7 @@ use super::{Gpu, GpuError, Kernel};
 use crate::state::SphParams;
 
 /// Velocity gradients and density rates: `gradient` gathers over the grid's neighbours and axis
-/// ghosts (with the m_tilde and area the neighbours pass wrote this step) and writes l_rr, l_rz,
+/// ghosts (with what the neighbours pass packed of them this step) and writes l_rr, l_rz,
 /// l_zr, l_zz, drho and hoop_weight, and visc_switch when the Balsara switch is on. With the velocity filter,
 /// `gradient` runs twice: first on the particles' velocities, then, after `sph_filter` has
 /// written the filtered velocities in kin's layout, on those.
@@ -44,8 +44,7 @@ impl SphRatesPass {
                 ("u", sph_uniform),
                 ("rho", &p.rho),
                 ("sound", &p.sound),
-                ("m_tilde", &p.m_tilde),
-                ("area", &p.area),
+                ("rate_pair", &grid.rate_pair),
                 ("l_rr", &p.l_rr),
                 ("l_rz", &p.l_rz),
                 ("l_zr", &p.l_zr),
@@ -121,7 +120,7 @@ mod tests {
         }
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
-        let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, lists);
+        let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, sph.h, lists);
         let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = start.clone();
