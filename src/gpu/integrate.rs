@@ -50,13 +50,12 @@ impl Accumulators {
 
 /// What the integration of a scene with a target binds besides the particles: the neighbour
 /// search's positions at the last build and its GridInfo (the displacement watch), and the
-/// contact's bounding-box keys and hit list.
+/// contact's bounding-box keys and hit list where it has a contact.
 pub struct TargetBindings<'a> {
     pub particles: &'a GpuParticles,
     pub x_build: &'a wgpu::Buffer,
     pub grid_info: &'a wgpu::Buffer,
-    pub box_keys: &'a wgpu::Buffer,
-    pub hits: &'a wgpu::Buffer,
+    pub contact: Option<(&'a wgpu::Buffer, &'a wgpu::Buffer)>,
 }
 
 impl IntegratePass {
@@ -89,8 +88,9 @@ impl IntegratePass {
                 &t.particles.energy,
                 t.x_build,
                 t.grid_info,
-                t.box_keys,
-                t.hits,
+                // Without slaves (the step uniform's n_slaves is 0) they are never touched.
+                t.contact.map_or(write, |c| c.0),
+                t.contact.map_or(write, |c| c.1),
             ],
             None => [
                 write, write, write, write, read, read, read, read, write, read, write, read,
@@ -250,8 +250,7 @@ mod tests {
                 particles: &gp,
                 x_build: &x_build,
                 grid_info: &grid_words,
-                box_keys: &box_keys,
-                hits: &hits,
+                contact: Some((&box_keys, &hits)),
             }),
             &gn,
             &acc,
@@ -375,8 +374,7 @@ mod tests {
                 particles: &gp,
                 x_build: &x_build,
                 grid_info: &grid_words,
-                box_keys: &box_keys,
-                hits: &hits,
+                contact: Some((&box_keys, &hits)),
             }),
             &gn,
             &acc,

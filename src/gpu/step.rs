@@ -331,14 +331,11 @@ impl GpuStep {
             &clock,
             &status,
             &slots,
-            sph.as_ref().and_then(|p| {
-                p.contact.as_ref().map(|c| TargetBindings {
-                    particles: &p.particles,
-                    x_build: p.neighbours.x_build(),
-                    grid_info: &p.grid.info,
-                    box_keys: &c.box_keys,
-                    hits: &c.hits,
-                })
+            sph.as_ref().map(|p| TargetBindings {
+                particles: &p.particles,
+                x_build: p.neighbours.x_build(),
+                grid_info: &p.grid.info,
+                contact: p.contact.as_ref().map(|c| (&c.box_keys, &c.hits)),
             }),
             &nodes,
             &acc,
