@@ -363,7 +363,6 @@ mod tests {
         let slots = crate::gpu::timestep::DtSlots::new(&gpu);
         let x_build = gpu.zeros::<[f32; 2]>("x_build", gp.len);
         let grid_words = gpu.zeros::<u32>("grid words", MOVED2 + 1);
-        let (box_keys, hits) = (gpu.zeros::<u32>("box keys", 8), gpu.zeros::<u32>("hits", 1));
         let pass = IntegratePass::new(
             &gpu,
             &step,
@@ -374,7 +373,7 @@ mod tests {
                 particles: &gp,
                 x_build: &x_build,
                 grid_info: &grid_words,
-                contact: Some((&box_keys, &hits)),
+                contact: None,
             }),
             &gn,
             &acc,
