@@ -373,8 +373,7 @@ fn run_batched(
     let (submissions, steps) = share.batch.counts();
     if submissions > 0 {
         eprintln!(
-            "penetrate sweep --batch {}: {steps} steps in {submissions} submissions ({:.2} a \
-             submission)",
+            "--batch {}: {steps} steps in {submissions} submissions ({:.2} a submission)",
             settings.batch,
             steps as f64 / submissions as f64
         );
