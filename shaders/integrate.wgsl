@@ -1,6 +1,6 @@
 // `integrate` (CPU twin: src/cpu/integrate.rs): leapfrog velocities then positions, the axis
 // constraint, the rigid wall, instability flags; particles and nodes in one dispatch (thread i
-// takes particle i and node i). It also ends the Δt reduction (timestep.wgsl): every thread
+// takes particle i and node i). It also ends the Δt reduction (step.wgsl): every thread
 // takes the step from the running minima the fold filled, thread 0 stores it in the clock and
 // empties the other slot for the next step's fold. And it folds what contact detection and
 // the neighbour lists' watch need: the particles' largest squared displacement since the lists

@@ -8,6 +8,6 @@ struct Clock {
     // 1 when the elements set `dt` (their least step no larger than the particles'), else 0.
     fem_limited: u32,
     // Two slots of the next step's candidates as ordered bits (atomicMin targets), the
-    // particles' and the elements' apart; see timestep.wgsl.
+    // particles' and the elements' apart; see step.wgsl.
     next: array<u32, 4>,
 }

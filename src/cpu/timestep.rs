@@ -1,5 +1,6 @@
 //! `timestep`: the stable step, a min-reduction over the particles' and the elements' own
-//! stable steps (physics.md §5); the GPU twin is shaders/timestep.wgsl.
+//! stable steps (physics.md §5); the GPU folds them where sph_forces and fem_stress make them
+//! (shaders/step.wgsl) and the integration takes the least.
 
 use rayon::prelude::*;
 

@@ -259,7 +259,7 @@ uniform_block! {
 uniform_block! {
     /// Which running minima of the clock the time-step fold fills (0 or 1), and which the
     /// integration takes its step from (0, 1, or `DT_FROM_CLOCK`: the clock's Δt as the host
-    /// set it, where no fold has run since the last integration); see timestep.wgsl.
+    /// set it, where no fold has run since the last integration); see step.wgsl.
     pub struct DtSlot {
         pub slot: u32,
     }

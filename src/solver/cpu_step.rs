@@ -167,7 +167,7 @@ impl Model {
 
     /// The particles' and the elements' least stable steps (f32::MAX for a side the scene does
     /// not have), noting in `fem_limited` whether the elements' sets Δt: no larger than the
-    /// particles', as shaders/timestep.wgsl decides it.
+    /// particles', as shaders/integrate.wgsl `step_dt` decides it.
     pub(super) fn least_steps(&mut self) -> (f32, f32) {
         let sph = match &self.sph {
             Some(sph) => cpu::timestep::particle_dt(&self.particles, sph),
