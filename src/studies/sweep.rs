@@ -317,14 +317,19 @@ fn run_batched(
     settings: &RunSettings,
     mut progress: impl FnMut(&RunRecord),
 ) -> Result<Vec<RunRecord>, SweepError> {
-    if let Some(p) = planned.iter().find(|p| p.spec.backend != Backend::Gpu) {
-        return Err(SweepError::Backend(format!(
-            "--batch {}: the runs step together on one GPU, but {} is on the {} path: \
-             give --backend gpu",
-            settings.batch,
-            p.spec.label,
-            p.spec.backend.name()
-        )));
+    let mut planned = planned;
+    for p in &mut planned {
+        // `auto` is the GPU where it finds one, as each run alone would resolve it.
+        let (backend, why) = solver::resolve(p.spec.backend, settings.adapter.as_deref());
+        if backend != Backend::Gpu {
+            let why = why.map_or(String::new(), |w| format!(" ({w})"));
+            return Err(SweepError::Backend(format!(
+                "--batch {}: the runs step together on one GPU, but {} is on the CPU path{why}: \
+                 give --backend gpu, or leave out --batch",
+                settings.batch, p.spec.label,
+            )));
+        }
+        p.spec.backend = backend;
     }
     let gpu = crate::gpu::Gpu::new(settings.adapter.as_deref())
         .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))?;
