@@ -60,7 +60,7 @@ fn quick_validation_writes_every_section() {
     assert!(report.contains("Quick run") && report.contains("not validation"));
     assert!(report.contains(
         "Sections run: taylor, forrestal, crh3-rods, target-size, convergence, \
-         rigid-vs-elastic, deformation, shell, nose-lining, tension"
+         rigid-vs-elastic, deformation, shell, nose-lining, nose-shape, tension"
     ));
     for title in [
         "## Checks",
@@ -75,6 +75,8 @@ fn quick_validation_writes_every_section() {
         "## Shell projectile",
         "critical velocity",
         "## Concrete lining the nose: CRH 2 against CRH 6",
+        "## Nose shape: CRH 3 and CRH 6 against CRH 2",
+        "CRH 6 / CRH 2 depth at 642 m/s",
         "## Concrete in tension: the crack band and a free-backed slab",
         "the projectile leaves the slab at both resolutions",
     ] {
@@ -93,19 +95,20 @@ fn quick_validation_writes_every_section() {
         "deformation",
         "shell",
         "nose-lining",
+        "nose-shape",
         "tension",
     ] {
         let command = format!("- Command: `penetrate validate --only {name} --backend cpu");
         assert!(report.contains(&command), "report.md lacks {command}");
     }
-    assert_eq!(report.matches("\n- Data source: ").count(), 10);
-    assert_eq!(report.matches("\n- Verdict: ").count(), 10);
+    assert_eq!(report.matches("\n- Data source: ").count(), 11);
+    assert_eq!(report.matches("\n- Verdict: ").count(), 11);
     assert!(summary.contains("not validation"), "{summary}");
     assert!(
         summary.contains("[Forrestal et al. (1994) shots](report.md#forrestal-et-al-1994-shots)"),
         "{summary}"
     );
-    assert_eq!(summary.matches("](report.md#").count(), 10, "{summary}");
+    assert_eq!(summary.matches("](report.md#").count(), 11, "{summary}");
     // The data files name their columns in a comment: every other line is a shot.
     let shots = |file: &str| {
         csv::ReaderBuilder::new()
@@ -129,6 +132,8 @@ fn quick_validation_writes_every_section() {
         ("deformation/deformation.csv", 3),
         // Two tension models at two resolutions.
         ("tension/slab.csv", 4),
+        // Two shots with three noses each.
+        ("nose-shape/nose-shape.csv", 6),
     ] {
         let lines = csv_rows(&out.join(csv));
         assert_eq!(lines.len(), rows, "{csv}: {lines:?}");
@@ -183,10 +188,10 @@ fn quick_validation_writes_every_section() {
     assert_eq!(csv_rows(&out.join("tension/material-points.csv")).len(), 12);
     let mut found = Vec::new();
     pngs(&out, &mut found);
-    // At least these 20: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
-    // history, three deformation, five shell, four nose-lining (a quick run writes 23: a
-    // second Forrestal and CRH 3 rods plot, a sixth shell one).
-    assert!(found.len() >= 20, "{found:?}");
+    // At least these 21: two Taylor, one Forrestal, one CRH 3 rods, two convergence, two
+    // history, three deformation, five shell, four nose-lining, one nose-shape (a quick run
+    // writes 24: a second Forrestal and CRH 3 rods plot, a sixth shell one).
+    assert!(found.len() >= 21, "{found:?}");
     for png in &found {
         let bytes = std::fs::read(png).unwrap();
         assert!(

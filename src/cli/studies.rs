@@ -139,7 +139,7 @@ pub struct ValidateArgs {
     #[arg(long)]
     quick: bool,
     /// Only these sections (comma-separated): taylor, forrestal, crh3-rods, target-size,
-    /// convergence, rigid-vs-elastic, deformation, shell, nose-lining, tension.
+    /// convergence, rigid-vs-elastic, deformation, shell, nose-lining, nose-shape, tension.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
     /// Output directory: report.md, and per section its CSV, plots and runs.

@@ -33,22 +33,48 @@ impl Inputs {
         self.strength_factor() * self.fc + self.nose_factor() * self.density * v * v
     }
 
-    /// Final depth (m) at striking speed `vs` (m/s):
+    /// Final depth (m) at striking speed `vs` (m/s) with the 4a crater:
     /// `P = (m/(2πa²ρN)) ln(1 + NρV₁²/(S f_c)) + 4a`,
     /// `V₁² = (mV_s² − 4πa³S f_c)/(m + 4πa³ρN)` (the speed left after the 4a-deep crater).
     /// `None` when V₁² ≤ 0: the projectile stops inside the crater, outside the tunnel law.
     pub fn depth(&self, vs: f64) -> Option<f64> {
+        self.depth_with_crater(vs, Crater::FourRadii)
+    }
+
+    /// The ogive's length `H = a √(4ψ − 1)` (m), as the mesh has it.
+    pub fn nose_length(&self) -> f64 {
+        crate::scene::ogive_nose_length(2.0 * self.shank_radius, self.crh)
+    }
+
+    /// Final depth (m) at striking speed `vs` with the entry crater `crater`, c deep: the force
+    /// grows linearly over the crater to the tunnel's `πa²(S f_c + NρV₁²)`, so
+    /// `V₁² = (mV_s² − πa²c S f_c)/(m + πa²c ρN)` and `P = (m/(2πa²ρN)) ln(1 + NρV₁²/(S f_c)) + c`
+    /// (with c = 4a, Forrestal's). `None` when V₁² ≤ 0.
+    pub fn depth_with_crater(&self, vs: f64, crater: Crater) -> Option<f64> {
         let (m, a, rho) = (self.mass, self.shank_radius, self.density);
+        let c = match crater {
+            Crater::FourRadii => 4.0 * a,
+            Crater::LiChen => 0.707 * 2.0 * a + self.nose_length(),
+        };
         let n = self.nose_factor();
         let resistance = self.strength_factor() * self.fc;
-        let k = 4.0 * std::f64::consts::PI * a.powi(3);
+        let k = std::f64::consts::PI * a * a * c;
         let v1_sq = (m * vs * vs - k * resistance) / (m + k * rho * n);
         if v1_sq <= 0.0 {
             return None;
         }
         let scale = m / (2.0 * std::f64::consts::PI * a * a * rho * n);
-        Some(scale * (n * rho * v1_sq / resistance).ln_1p() + 4.0 * a)
+        Some(scale * (n * rho * v1_sq / resistance).ln_1p() + c)
     }
+}
+
+/// How deep the entry crater of Forrestal's equation is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Crater {
+    /// Four shank radii (Forrestal, Altman, Cargile & Hanchak 1994).
+    FourRadii,
+    /// `(0.707 + H/d) d`, H the nose's length (Li & Chen 2003, Int. J. Impact Engng 28:93).
+    LiChen,
 }
 
 /// The axial stress resisting the projectile, `σ = −m (dv/dt)/(πa²)`, along a run's history
@@ -151,5 +177,34 @@ mod tests {
         assert!(shot.depth(499.0).unwrap() > p);
         assert!(shot.depth(118.0).is_none());
         assert!(shot.depth(120.0).unwrap() > 4.0 * 0.01345);
+    }
+
+    /// The same shot with Li and Chen's crater, by hand:
+    ///   H = a √7 = 0.0355854 m;  c = 0.707 · 0.0269 + H = 0.0546037 m
+    ///   πa²c = π · 1.80903e-4 · 0.0546037 = 3.10325e-5 m³
+    ///   V₁² = (69516.47 − 3.10325e-5 · 4.18990e8) / (0.906 + 3.10325e-5 · 2370 · 0.15625)
+    ///       = 56514.3 / 0.917492 = 61596.4 m²/s²
+    ///   P = 2.15246 · ln(1 + 370.3125 · 61596.4 / 4.18990e8) + c
+    ///     = 2.15246 · ln(1.0544403) + 0.0546037 = 0.16871 m
+    /// and with c = 4a it is `depth`.
+    #[test]
+    fn the_li_chen_crater_matches_the_hand_calculation() {
+        let shot = Inputs {
+            mass: 0.906,
+            shank_radius: 0.01345,
+            crh: 2.0,
+            density: 2370.0,
+            fc: 35.2e6,
+        };
+        assert!((shot.nose_length() - 0.0355854).abs() < 1e-7);
+        let p = shot.depth_with_crater(277.0, Crater::LiChen).unwrap();
+        assert!((p - 0.16871).abs() < 2e-5, "{p}");
+        assert_eq!(
+            shot.depth_with_crater(277.0, Crater::FourRadii),
+            shot.depth(277.0)
+        );
+        // A longer nose digs a deeper crater: the same speed is used up sooner in it.
+        let slender = Inputs { crh: 6.0, ..shot };
+        assert!(slender.nose_length() > shot.nose_length());
     }
 }

@@ -8,8 +8,10 @@
 //! over every shot of both; the target-size check; depth error
 //! against run time at four resolutions on each backend; and the paper's studies — rigid
 //! (λ = 0) against elastic-plastic (λ = 0.2) histories, the projectile's plastic deformation
-//! against striking speed, and the shell projectile's critical velocity and damage; and a reading of the concrete
-//! lining a CRH 2 and a CRH 6 nose (kernel completeness, volumetric rate, pressure).
+//! against striking speed, and the shell projectile's critical velocity and damage; a reading of
+//! the concrete lining a CRH 2 and a CRH 6 nose (kernel completeness, volumetric rate,
+//! pressure); the depth ratios of CRH 3 and CRH 6 noses to CRH 2 against Forrestal's equation;
+//! and concrete in tension.
 //!
 //! Nothing here knows an expected result: measured values come from the data files, accuracy
 //! targets are the issue's and stated beside each check. A run that does not complete is
@@ -22,6 +24,7 @@ pub mod data;
 pub mod forrestal;
 mod frame;
 mod lining;
+mod nose_shape;
 mod penetration;
 mod report;
 mod shell;
@@ -52,11 +55,12 @@ pub enum Section {
     Deformation,
     Shell,
     Lining,
+    NoseShape,
     Tension,
 }
 
 impl Section {
-    pub const ALL: [Section; 10] = [
+    pub const ALL: [Section; 11] = [
         Section::Taylor,
         Section::Forrestal,
         Section::Crh3Rods,
@@ -66,6 +70,7 @@ impl Section {
         Section::Deformation,
         Section::Shell,
         Section::Lining,
+        Section::NoseShape,
         Section::Tension,
     ];
 
@@ -81,6 +86,7 @@ impl Section {
             Section::Deformation => "deformation",
             Section::Shell => "shell",
             Section::Lining => "nose-lining",
+            Section::NoseShape => "nose-shape",
             Section::Tension => "tension",
         }
     }
@@ -97,6 +103,7 @@ impl Section {
             Section::Deformation => "Plastic deformation against striking speed (paper Fig. 4)",
             Section::Shell => "Shell projectile: critical velocity and damage (paper Fig. 6, 7, 9)",
             Section::Lining => "Concrete lining the nose: CRH 2 against CRH 6",
+            Section::NoseShape => "Nose shape: CRH 3 and CRH 6 against CRH 2",
             Section::Tension => "Concrete in tension: the crack band and a free-backed slab",
         }
     }
@@ -124,6 +131,10 @@ impl Section {
             Section::Lining => {
                 "none measured: a reading of the solver's own fields (the kernel cut at the \
                  projectile), for the nose-shape question"
+            }
+            Section::NoseShape => {
+                "none measured for these noses: Forrestal's equation (`forrestal1994.csv`'s \
+                 shots, each run's own mass) with two entry-crater rules"
             }
             Section::Tension => {
                 "none measured: the fracture energy G_f (fib Model Code 2010) the crack band must \
@@ -372,6 +383,8 @@ pub fn estimate_runs(opts: &Options) -> Result<usize, ValidateError> {
             }
             // Stepped in process to read the model, not through the run folders.
             Section::Lining => 0,
+            // Each study shot with the shipped nose (the forrestal section's runs) and two more.
+            Section::NoseShape => penetration::STUDY_SHOTS.len() * (1 + nose_shape::NOSES.len()),
             // Two tension models at two resolutions.
             Section::Tension => 4,
         })
@@ -454,6 +467,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
             Section::Deformation => solid::deformation(&mut ctx)?,
             Section::Shell => shell::run(&mut ctx)?,
             Section::Lining => lining::run(&mut ctx)?,
+            Section::NoseShape => nose_shape::run(&mut ctx)?,
             Section::Tension => tension::run(&mut ctx)?,
         };
         parts.push((s, out));
