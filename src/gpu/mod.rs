@@ -14,6 +14,7 @@ pub mod contact_detect;
 pub mod error;
 pub mod fem_forces;
 pub mod fem_stress;
+pub mod history;
 pub mod integrate;
 pub mod neighbours;
 pub mod params;

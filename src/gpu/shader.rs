@@ -52,10 +52,11 @@ pub enum Program {
     FemForces,
     Integrate,
     ContactDetect,
+    History,
 }
 
 impl Program {
-    pub const ALL: [Program; 11] = [
+    pub const ALL: [Program; 12] = [
         Program::Neighbours,
         Program::NeighbourList,
         Program::Scan,
@@ -67,6 +68,7 @@ impl Program {
         Program::FemForces,
         Program::Integrate,
         Program::ContactDetect,
+        Program::History,
     ];
 
     /// The pass's name, as its kernels are labelled.
@@ -83,6 +85,7 @@ impl Program {
             Program::FemForces => "fem_forces",
             Program::Integrate => "integrate",
             Program::ContactDetect => "contact_detect",
+            Program::History => "history",
         }
     }
 
@@ -106,6 +109,7 @@ impl Program {
             Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
             Program::Integrate => &["main"],
             Program::ContactDetect => &["detect", "apply"],
+            Program::History => &["reduce"],
         }
     }
 
@@ -146,6 +150,7 @@ impl Program {
             Program::FemForces => step_parts(part!("fem_forces.wgsl")),
             Program::Integrate => step_parts(part!("integrate.wgsl")),
             Program::ContactDetect => step_parts(part!("contact_detect.wgsl")),
+            Program::History => vec![part!("history.wgsl")],
         }
     }
 
@@ -211,6 +216,7 @@ fn shared_constants() -> Vec<(&'static str, Value)> {
     let status = |i: usize| U32(i as u32);
     vec![
         ("WG", U32(super::WORKGROUP)),
+        ("HISTORY_CHUNK", U32(super::history::CHUNK)),
         ("SIGMA_2D", F32(crate::kernel::SIGMA_2D)),
         ("GRID_REACH", U32(crate::cpu::neighbours::REACH)),
         (

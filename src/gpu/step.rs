@@ -75,6 +75,7 @@ struct SphPasses {
     concrete: super::concrete::ConcretePass,
     forces: super::sph_forces::SphForcesPass,
     contact: Option<ContactPass>,
+    history: super::history::HistoryPass,
 }
 
 pub struct GpuStep {
@@ -288,6 +289,12 @@ impl GpuStep {
                     None
                 };
                 uniforms.push(sph_uniform);
+                let history = super::history::HistoryPass::new(
+                    &gpu,
+                    &particles,
+                    &acc.particle_impulse,
+                    slaves,
+                )?;
                 Some(SphPasses {
                     particles,
                     neighbours,
@@ -296,6 +303,7 @@ impl GpuStep {
                     concrete,
                     forces,
                     contact,
+                    history,
                 })
             }
             None => None,

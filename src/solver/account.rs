@@ -12,7 +12,11 @@ impl Model {
                 .map(|i| 0.5 * m[i] as f64 * ((vr[i] as f64).powi(2) + (vz[i] as f64).powi(2)))
                 .sum()
         };
-        ke(&p.mass, &p.vr, &p.vz) + ke(&n.mass, &n.vr, &n.vz)
+        let particles = match &self.reduced {
+            Some(t) => t.kinetic,
+            None => ke(&p.mass, &p.vr, &p.vz),
+        };
+        particles + ke(&n.mass, &n.vr, &n.vz)
     }
 
     pub(super) fn projectile_momentum(&self) -> f64 {
@@ -26,12 +30,18 @@ impl Model {
     pub fn momentum_z(&self) -> f64 {
         let p = &self.particles;
         self.projectile_momentum()
-            + (0..p.len())
-                .map(|i| p.mass[i] as f64 * p.vz[i] as f64)
-                .sum::<f64>()
+            + match &self.reduced {
+                Some(t) => t.momentum_z,
+                None => (0..p.len())
+                    .map(|i| p.mass[i] as f64 * p.vz[i] as f64)
+                    .sum::<f64>(),
+            }
     }
 
     pub fn internal_target(&self) -> f64 {
+        if let Some(t) = &self.reduced {
+            return t.internal;
+        }
         let p = &self.particles;
         (0..p.len())
             .map(|i| p.mass[i] as f64 * p.energy[i] as f64)

@@ -84,6 +84,7 @@ impl Model {
             shank,
             on_nose,
             adapter: "none (CPU reference path)".into(),
+            reduced: None,
         };
         sim.account.initial_kinetic = sim.kinetic_energy();
         sim.account.initial_momentum = sim.momentum_z();

@@ -199,32 +199,42 @@ impl Model {
     pub(super) fn fastest(&self) -> Fastest {
         let p = &self.particles;
         let n = &self.projectile.nodes;
-        let find = |what, r: &[f32], z: &[f32], vr: &[f32], vz: &[f32]| {
-            (0..vr.len()).fold(
-                Fastest {
-                    what,
-                    index: 0,
-                    r: f32::NAN,
-                    z: f32::NAN,
-                    speed: 0.0,
-                },
-                |f, i| {
-                    let speed = vr[i].hypot(vz[i]);
-                    if speed > f.speed {
-                        Fastest {
-                            what,
-                            index: i,
-                            r: r[i],
-                            z: z[i],
-                            speed,
-                        }
-                    } else {
-                        f
-                    }
-                },
-            )
+        // Nothing at rest is anybody's fastest.
+        let nobody = |what| Fastest {
+            what,
+            index: 0,
+            r: f32::NAN,
+            z: f32::NAN,
+            speed: 0.0,
         };
-        let a = find("particle", &p.r, &p.z, &p.vr, &p.vz);
+        let find = |what, r: &[f32], z: &[f32], vr: &[f32], vz: &[f32]| {
+            (0..vr.len()).fold(nobody(what), |f, i| {
+                let speed = vr[i].hypot(vz[i]);
+                if speed > f.speed {
+                    Fastest {
+                        what,
+                        index: i,
+                        r: r[i],
+                        z: z[i],
+                        speed,
+                    }
+                } else {
+                    f
+                }
+            })
+        };
+        let a = match &self.reduced {
+            Some(t) => t
+                .fastest
+                .map_or(nobody("particle"), |(index, r, z, speed)| Fastest {
+                    what: "particle",
+                    index,
+                    r,
+                    z,
+                    speed,
+                }),
+            None => find("particle", &p.r, &p.z, &p.vr, &p.vz),
+        };
         let b = find("node", &n.r, &n.z, &n.vr, &n.vz);
         if b.speed > a.speed {
             b

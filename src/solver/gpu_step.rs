@@ -32,6 +32,7 @@ impl Stepper for GpuStepper {
         sim.account.wall_dissipated = base.wall_dissipated + t.wall_lost;
         sim.account.plastic_work = base.plastic_work + t.plastic_work;
         sim.dt = t.next_dt;
+        sim.reduced = t.particles;
         Ok(())
     }
 

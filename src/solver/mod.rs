@@ -137,6 +137,10 @@ pub struct Model {
     on_nose: Vec<bool>,
     /// The adapter's name ("none (CPU reference path)" on the CPU).
     pub adapter: String,
+    /// The particles' sums as the GPU reduced them for a history row, standing in for the
+    /// host's particle velocities and energies, which that read leaves stale; `None` where
+    /// the host's particles are current (the CPU path, after a full read).
+    reduced: Option<crate::gpu::history::ParticleTotals>,
 }
 
 impl Model {

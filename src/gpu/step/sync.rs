@@ -1,19 +1,20 @@
 //! The GPU state read back for outputs (gpu::step): a history row's share of it or all of it,
 //! after the pending second half of the last step, in one submission waited for once.
 
+use super::super::history::ParticleTotals;
 use super::super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::super::timestep::{slot_dt, CLOCK_SLOTS};
 use super::super::traffic::Charge;
-use super::super::{GpuError, ReadBatch};
+use super::super::{GpuError, Part, ReadBatch};
 use super::GpuStep;
 use crate::state::{Particles, Projectile};
 
 impl GpuStep {
     /// An encoder that first finishes the last step (its forces and the next Δt), where that
-    /// is pending, so that what it copies after sees the complete state; and whether those
-    /// forces build the neighbour lists (None: nothing was pending). `finished` records it
-    /// once submitted.
-    fn finishing_encoder(&self) -> (wgpu::CommandEncoder, Option<bool>) {
+    /// is pending, so that what it copies after sees the complete state, and for a history
+    /// row reduces the particles; and whether those forces build the neighbour lists (None:
+    /// nothing was pending). `finished` records it once submitted.
+    fn finishing_encoder(&self, what: Sync) -> (wgpu::CommandEncoder, Option<bool>) {
         let mut encoder = self
             .gpu
             .device
@@ -21,9 +22,19 @@ impl GpuStep {
                 label: Some("finish step"),
             });
         let build = self.pending_forces.then(|| self.lists_stale());
-        if let Some(build) = build {
+        let history = self
+            .sph
+            .as_ref()
+            .map(|s| &s.history)
+            .filter(|_| what == Sync::History);
+        if build.is_some() || history.is_some() {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            self.record_forces(&mut pass, build);
+            if let Some(build) = build {
+                self.record_forces(&mut pass, build);
+            }
+            if let Some(h) = history {
+                h.record(&mut pass);
+            }
         }
         (encoder, build)
     }
@@ -41,8 +52,9 @@ impl GpuStep {
     /// Finish the step and read the state back into the CPU structures, with the accumulated
     /// boundary impulse, wall loss and plastic work (sums over entities, f64), and the next Δt.
     /// `Sync::Full` reads every field; `Sync::History` only what a history row and the check
-    /// for slaves left inside need (the particles' positions, velocities and energies, the
-    /// projectile), a sixth of the bytes.
+    /// for slaves left inside need: the projectile, the slaves' positions and the particles'
+    /// sums as `history.wgsl` reduces them (`Totals::particles`), the host's other particle
+    /// fields left as they were.
     pub fn download(
         &mut self,
         particles: &mut Particles,
@@ -50,22 +62,17 @@ impl GpuStep {
         what: Sync,
     ) -> Result<Totals, GpuError> {
         self.charge(None, false);
-        let (encoder, build) = self.finishing_encoder();
+        let (encoder, build) = self.finishing_encoder(what);
         let mut batch = ReadBatch::new();
         let n_p = particles.len();
         let n_n = projectile.nodes.len();
         let n_e = projectile.elements.len();
         let sph = self.sph.as_ref().map(|s| match what {
-            Sync::Full => s.particles.queue(&mut batch, particles),
-            Sync::History => [
-                &s.particles.r,
-                &s.particles.z,
-                &s.particles.vr,
-                &s.particles.vz,
-                &s.particles.energy,
-            ]
-            .map(|b| batch.add::<f32>(b, n_p))
-            .to_vec(),
+            Sync::Full => Reads::Full(
+                s.particles.queue(&mut batch, particles),
+                batch.add::<f32>(&self.acc.particle_impulse, n_p),
+            ),
+            Sync::History => Reads::History(s.history.queue(&mut batch)),
         });
         let nodes = self.nodes.queue(&mut batch, &projectile.nodes);
         let elements = self
@@ -73,33 +80,37 @@ impl GpuStep {
             .as_ref()
             .map(|_| self.elements.queue(&mut batch, &projectile.elements));
         let clock = batch.add::<u32>(&self.clock, (CLOCK_SLOTS / 4 + 4) as usize);
-        let particle_impulse = batch.add::<f32>(&self.acc.particle_impulse, n_p);
         let node_impulse = batch.add::<f32>(&self.acc.node_impulse, n_n);
         let node_lost = batch.add::<f32>(&self.acc.node_lost, n_n);
         let plastic = batch.add::<f32>(&self.plastic_total, n_e);
         let read = batch.read(&self.gpu, encoder)?;
         self.finished(build);
-        match (sph, what) {
-            (Some(parts), Sync::Full) => GpuParticles::take(&read, &parts, particles),
-            (Some(parts), Sync::History) => {
-                let [r, z, vr, vz, energy] = [0, 1, 2, 3, 4].map(|k| read.take(parts[k]));
-                (particles.r, particles.z, particles.vr, particles.vz) = (r, z, vr, vz);
-                particles.energy = energy;
-            }
-            (None, _) => {}
-        }
-        GpuNodes::take(&read, &nodes, &mut projectile.nodes);
-        if let Some(parts) = elements {
-            GpuElements::take(&read, &parts, &mut projectile.elements);
-        }
         let sum = |part| {
             read.take::<f32>(part)
                 .iter()
                 .map(|&x| x as f64)
                 .sum::<f64>()
         };
+        let (particle_impulse, reduced) = match (sph, &self.sph) {
+            (Some(Reads::Full(parts, impulse)), _) => {
+                GpuParticles::take(&read, &parts, particles);
+                (sum(impulse), None)
+            }
+            (Some(Reads::History(parts)), Some(s)) => {
+                let t = s
+                    .history
+                    .take(&read, parts, &mut particles.r, &mut particles.z);
+                (t.impulse, Some(t))
+            }
+            _ => (0.0, None),
+        };
+        GpuNodes::take(&read, &nodes, &mut projectile.nodes);
+        if let Some(parts) = elements {
+            GpuElements::take(&read, &parts, &mut projectile.elements);
+        }
         let totals = Totals {
-            boundary_impulse: sum(particle_impulse) + sum(node_impulse),
+            boundary_impulse: particle_impulse + sum(node_impulse),
+            particles: reduced,
             wall_lost: sum(node_lost),
             plastic_work: sum(plastic),
             next_dt: self.next_dt(&read.take::<u32>(clock)),
@@ -132,9 +143,19 @@ pub enum Sync {
     History,
 }
 
+/// What `download` reads of the particles: every field and the wall impulses, or the history
+/// pass's partials and the slaves' positions.
+enum Reads {
+    Full(Vec<Part>, Part),
+    History([Part; 2]),
+}
+
 /// Sums the host takes from the GPU's per-entity accumulators.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Totals {
+    /// The particles' part of a history row as the GPU reduced it (`Sync::History`); `None`
+    /// when the host's particles were read whole.
+    pub particles: Option<ParticleTotals>,
     pub boundary_impulse: f64,
     pub wall_lost: f64,
     pub plastic_work: f64,
