@@ -6,6 +6,9 @@
 // the neighbour lists' watch need: the particles' largest squared displacement since the lists
 // were built into the grid's moved2 (reset by `pack`), and the nodes' bounding box into the
 // box slot of this integration's parity (thread 0 empties the other, and the hit list).
+// Each node first gathers its elements' forces (CPU twin: src/cpu/fem_forces.rs) through the
+// node → element CSR, in CSR order: a gather, no float atomics, the CPU's sum to the bit; it
+// stores them in fr, fz for the read-back.
 // Needs params.wgsl and step.wgsl.
 
 @group(0) @binding(0) var<uniform> u: StepUniform;
@@ -34,8 +37,8 @@
 @group(0) @binding(18) var<storage, read_write> node_z: array<f32>;
 @group(0) @binding(19) var<storage, read_write> node_vr: array<f32>;
 @group(0) @binding(20) var<storage, read_write> node_vz: array<f32>;
-@group(0) @binding(21) var<storage, read> node_fr: array<f32>;
-@group(0) @binding(22) var<storage, read> node_fz: array<f32>;
+@group(0) @binding(21) var<storage, read_write> node_fr: array<f32>;
+@group(0) @binding(22) var<storage, read_write> node_fz: array<f32>;
 @group(0) @binding(23) var<storage, read> node_mass: array<f32>;
 @group(0) @binding(24) var<storage, read> on_axis: array<u32>;
 @group(0) @binding(25) var<storage, read_write> node_impulse: array<f32>;
@@ -44,6 +47,11 @@
 // z_min, z_max at 4 p for the parity p; and the hit list, whose count is word 0.
 @group(0) @binding(27) var<storage, read_write> box_keys: array<atomic<u32>>;
 @group(0) @binding(28) var<storage, read_write> hits: array<atomic<u32>>;
+// The elements' nodal forces, [f32; 6] per element, and the node → element CSR (3·element +
+// local index).
+@group(0) @binding(29) var<storage, read> elem_offsets: array<u32>;
+@group(0) @binding(30) var<storage, read> elem_refs: array<u32>;
+@group(0) @binding(31) var<storage, read> force: array<f32>;
 
 // This integration's parity: the slot its Δt is in (DT_FROM_CLOCK comes only before the first
 // fold, at parity 0).
@@ -144,13 +152,21 @@ fn watch(i: u32, pr: f32, pz: f32) {
 }
 
 fn node(i: u32, dt: f32) {
+    var f = vec2<f32>(0.0);
+    for (var k = elem_offsets[i]; k < elem_offsets[i + 1u]; k++) {
+        let code = elem_refs[k];
+        let at = 6u * (code / 3u) + 2u * (code % 3u);
+        f = f + vec2<f32>(force[at], force[at + 1u]);
+    }
+    node_fr[i] = f.x;
+    node_fz[i] = f.y;
     let inv_m = 1.0 / node_mass[i];
     var nvr = 0.0;
     if (on_axis[i] == 0u) {
-        nvr = node_vr[i] + dt * node_fr[i] * inv_m;
+        nvr = node_vr[i] + dt * f.x * inv_m;
     }
     let vz_before = node_vz[i];
-    var f_z = node_fz[i];
+    var f_z = f.y;
     if (u.has_wall != 0u && node_z[i] <= u.wall_z) {
         f_z = max(f_z, 0.0);
     }
@@ -165,7 +181,7 @@ fn node(i: u32, dt: f32) {
                 nvz = 0.0;
             }
         }
-        node_impulse[i] += node_mass[i] * (nvz - vz_before) - node_fz[i] * dt;
+        node_impulse[i] += node_mass[i] * (nvz - vz_before) - f.y * dt;
     }
     node_r[i] = nr;
     node_z[i] = nz;

@@ -93,7 +93,6 @@ impl FemStressPass {
 mod tests {
     use super::*;
     use crate::gpu::concrete::tests::{field_error, increment_error};
-    use crate::gpu::fem_forces::FemForcesPass;
     use crate::gpu::integrate::{STATUS_CLEAR, STATUS_INVERTED_ELEMENT, STATUS_WORDS};
     use crate::gpu::params::FemUniform;
     use crate::gpu::shader::{self, fem_stress_parts, Part};
@@ -391,7 +390,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
 
-    /// What one GPU stress pass (and optionally the forces pass) leaves behind.
+    /// What one GPU stress pass leaves behind.
     struct GpuResult {
         elements: Elements,
         nodes: Nodes,
@@ -399,8 +398,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         status: Vec<u32>,
     }
 
-    /// Upload `nodes` and `elements`, record fem_stress (with Δt = `dt`) and fem_forces as
-    /// asked in one compute pass, and read everything back; plastic_total starts at
+    /// Upload `nodes` and `elements`, record fem_stress (with Δt = `dt`), and read everything
+    /// back; plastic_total starts at
     /// `plastic_start`. The stress pass's fold into the clock's slot 0 must be the least of
     /// the elements' stable steps it leaves, to the bit.
     #[allow(clippy::too_many_arguments)]
@@ -411,8 +410,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         params: &FemParams,
         dt: f32,
         plastic_start: &[f32],
-        stress: bool,
-        forces: bool,
     ) -> GpuResult {
         let gn = GpuNodes::upload(gpu, nodes);
         let ge = GpuElements::upload(gpu, elements);
@@ -443,16 +440,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             &plastic_total,
         )
         .unwrap();
-        let forces_pass = FemForcesPass::new(gpu, &gn, &ge, &uniform).unwrap();
-        run_once(gpu, |p| {
-            if stress {
-                stress_pass.record(p, 0);
-            }
-            if forces {
-                forces_pass.record(p);
-            }
-        })
-        .unwrap();
+        run_once(gpu, |p| stress_pass.record(p, 0)).unwrap();
         let mut back = GpuResult {
             elements: elements.clone(),
             nodes: nodes.clone(),
@@ -461,18 +449,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         };
         ge.download(gpu, &mut back.elements).unwrap();
         gn.download(gpu, &mut back.nodes).unwrap();
-        if stress {
-            let candidate = |x: f32| {
-                if (0.0..=f32::MAX).contains(&x) {
-                    x.to_bits()
-                } else {
-                    f32::MAX.to_bits()
-                }
-            };
-            let least = back.elements.dt.iter().map(|&x| candidate(x)).min();
-            let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
-            assert_eq!(Some(words[3]), least, "the elements' fold");
-        }
+        let candidate = |x: f32| {
+            if (0.0..=f32::MAX).contains(&x) {
+                x.to_bits()
+            } else {
+                f32::MAX.to_bits()
+            }
+        };
+        let least = back.elements.dt.iter().map(|&x| candidate(x)).min();
+        let words: Vec<u32> = gpu.read(&clock, 6).unwrap();
+        assert_eq!(Some(words[3]), least, "the elements' fold");
         back
     }
 
@@ -582,16 +568,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                 "{shared} of {cells} cells shared"
             );
 
-            let gpu_out = run_gpu(
-                &gpu,
-                nodes,
-                &before,
-                &params,
-                sim.dt,
-                &plastic_start,
-                true,
-                false,
-            );
+            let gpu_out = run_gpu(&gpu, nodes, &before, &params, sim.dt, &plastic_start);
             let back = &gpu_out.elements;
             assert_eq!(gpu_out.status[STATUS_INVERTED_ELEMENT], STATUS_CLEAR);
             assert_eq!(back.failed, cpu.failed, "failed flags differ");
@@ -701,48 +678,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
 
-    /// fem_forces gathers in CSR order, the order in which the CPU sums: the nodal forces are
-    /// bit-identical, from the CPU's element forces alone and right after fem_stress in the
-    /// same compute pass (the forces pass must see the stress pass's writes).
-    #[test]
-    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
-    fn fem_forces_matches_cpu() {
-        let gpu = test_gpu();
-        let sim = taylor(TAYLOR_STEPS);
-        let elements = &sim.projectile.elements;
-        let mut poisoned = sim.projectile.nodes.clone();
-        poisoned.fr.iter_mut().for_each(|x| *x = f32::NAN);
-        poisoned.fz.iter_mut().for_each(|x| *x = f32::NAN);
-        let plastic = vec![0.0; elements.len()];
-        let stress_too = [false, true];
-        for stress in stress_too {
-            let out = run_gpu(
-                &gpu, &poisoned, elements, &sim.fem, sim.dt, &plastic, stress, true,
-            );
-            // The CPU gather of the element forces the GPU used.
-            let mut cpu = poisoned.clone();
-            crate::cpu::fem_forces::run(&mut cpu, &out.elements);
-            assert!(cpu.fz.iter().any(|&f| f != 0.0), "the bar is loaded");
-            for (name, a, b) in [
-                ("fr", &out.nodes.fr, &cpu.fr),
-                ("fz", &out.nodes.fz, &cpu.fz),
-            ] {
-                let e = field_error(a, b);
-                let same = a
-                    .iter()
-                    .zip(b)
-                    .filter(|(x, y)| x.to_bits() == y.to_bits())
-                    .count();
-                eprintln!(
-                    "fem_forces {name} (after fem_stress: {stress}): relative error {e:e}, \
-                     {same} of {} nodes bit-identical",
-                    a.len()
-                );
-                assert_eq!(same, a.len(), "{name}: not the CPU's sum");
-            }
-        }
-    }
-
     /// An inverted element (nodes turned clockwise) and one with a NaN node each put the
     /// smallest bad index into the status word; forces of good elements are still written.
     #[test]
@@ -767,8 +702,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             params,
             sim.dt,
             &plastic,
-            true,
-            false,
         );
         let mut cpu = inverted.clone();
         let err = crate::cpu::fem_stress::run(&mut cpu, &sim.projectile.nodes, params, sim.dt)
@@ -797,9 +730,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let first = (0..elements.len())
             .find(|&e| elements.nodes[e].contains(&(node as u32)))
             .unwrap();
-        let out = run_gpu(
-            &gpu, &nodes, elements, params, sim.dt, &plastic, true, false,
-        );
+        let out = run_gpu(&gpu, &nodes, elements, params, sim.dt, &plastic);
         eprintln!(
             "NaN node {node}: status word {}, first element on it {first}",
             out.status[STATUS_INVERTED_ELEMENT]

@@ -1,7 +1,7 @@
 //! `integrate` on the GPU (shaders/integrate.wgsl); CPU twin `cpu::integrate`.
 
 use super::shader::Program;
-use super::state::{GpuNodes, GpuParticles};
+use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::{DtSlots, DT_FROM_CLOCK};
 use super::{Gpu, GpuError, Kernel};
 
@@ -69,6 +69,7 @@ impl IntegratePass {
         slots: &DtSlots,
         target: Option<TargetBindings>,
         nodes: &GpuNodes,
+        elements: &GpuElements,
         acc: &Accumulators,
     ) -> Result<IntegratePass, GpuError> {
         let kernel = gpu.kernel(Program::Integrate, "main", &[])?;
@@ -131,6 +132,9 @@ impl IntegratePass {
                     ("node_lost", &acc.node_lost),
                     ("box_keys", p[13]),
                     ("hits", p[14]),
+                    ("elem_offsets", &n.elem_offsets),
+                    ("elem_refs", &n.elem_refs),
+                    ("force", &elements.force),
                 ],
             )
         };
@@ -231,7 +235,12 @@ mod tests {
         let hits = gpu.buffer("hits", &[5u32]);
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
-        let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
+        // The nodes' forces poisoned: the integration gathers its own from the elements'.
+        let mut poisoned = sim.projectile.nodes.clone();
+        poisoned.fr.iter_mut().for_each(|f| *f = f32::NAN);
+        poisoned.fz.iter_mut().for_each(|f| *f = f32::NAN);
+        let gn = GpuNodes::upload(&gpu, &poisoned);
+        let ge = GpuElements::upload(&gpu, &sim.projectile.elements);
         let acc = Accumulators::new(&gpu, gp.len, gn.len);
         let slots = DtSlots::new(&gpu);
         // The lists "built" where the particles are now.
@@ -253,6 +262,7 @@ mod tests {
                 contact: Some((&box_keys, &hits)),
             }),
             &gn,
+            &ge,
             &acc,
         )
         .unwrap();
@@ -263,11 +273,24 @@ mod tests {
         let sph = sim.sph.unwrap();
         crate::cpu::integrate::particles(&mut cpu, &sph, dt, 1.0e3).unwrap();
         let mut nodes = sim.projectile.nodes.clone();
+        crate::cpu::fem_forces::run(&mut nodes, &sim.projectile.elements);
+        assert!(
+            nodes.fz.iter().any(|&f| f != 0.0),
+            "the projectile is loaded"
+        );
         crate::cpu::integrate::nodes(&mut nodes, dt, None, 1.0e3).unwrap();
         let mut back = sim.particles.clone();
         gp.download(&gpu, &mut back).unwrap();
         let mut back_nodes = nodes.clone();
         gn.download(&gpu, &mut back_nodes).unwrap();
+        // The nodal forces gathered in CSR order, as the CPU sums them: the same bits.
+        for (name, a, b) in [
+            ("fr", &back_nodes.fr, &nodes.fr),
+            ("fz", &back_nodes.fz, &nodes.fz),
+        ] {
+            let differ = a.iter().zip(b).filter(|(x, y)| x.to_bits() != y.to_bits());
+            assert_eq!(differ.count(), 0, "{name}: not the CPU's gather");
+        }
         // x + dt·(v + dt·a): one rounding per operation on each side; a fused multiply-add on
         // the GPU moves the result by at most an ulp of the field, ~1e-7 relative.
         for (name, a, b) in [
@@ -359,6 +382,7 @@ mod tests {
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let gp = GpuParticles::upload(&gpu, &sim.particles);
         let gn = GpuNodes::upload(&gpu, &sim.projectile.nodes);
+        let ge = GpuElements::upload(&gpu, &sim.projectile.elements);
         let acc = Accumulators::new(&gpu, gp.len, gn.len);
         let slots = crate::gpu::timestep::DtSlots::new(&gpu);
         let x_build = gpu.zeros::<[f32; 2]>("x_build", gp.len);
@@ -376,6 +400,7 @@ mod tests {
                 contact: None,
             }),
             &gn,
+            &ge,
             &acc,
         )
         .unwrap();

@@ -12,7 +12,6 @@ pub mod batch;
 pub mod concrete;
 pub mod contact_detect;
 pub mod error;
-pub mod fem_forces;
 pub mod fem_stress;
 pub mod history;
 pub mod integrate;

@@ -49,14 +49,13 @@ pub enum Program {
     SphForces,
     Concrete,
     FemStress,
-    FemForces,
     Integrate,
     ContactDetect,
     History,
 }
 
 impl Program {
-    pub const ALL: [Program; 12] = [
+    pub const ALL: [Program; 11] = [
         Program::Neighbours,
         Program::NeighbourList,
         Program::Scan,
@@ -65,7 +64,6 @@ impl Program {
         Program::SphForces,
         Program::Concrete,
         Program::FemStress,
-        Program::FemForces,
         Program::Integrate,
         Program::ContactDetect,
         Program::History,
@@ -82,7 +80,6 @@ impl Program {
             Program::SphForces => "sph_forces",
             Program::Concrete => "concrete",
             Program::FemStress => "fem_stress",
-            Program::FemForces => "fem_forces",
             Program::Integrate => "integrate",
             Program::ContactDetect => "contact_detect",
             Program::History => "history",
@@ -106,7 +103,7 @@ impl Program {
             Program::SphRates => &["gradient"],
             Program::SphFilter => &["filter_velocity"],
             Program::SphForces => &["forces"],
-            Program::Concrete | Program::FemStress | Program::FemForces => &["main"],
+            Program::Concrete | Program::FemStress => &["main"],
             Program::Integrate => &["main"],
             Program::ContactDetect => &["detect", "apply"],
             Program::History => &["reduce"],
@@ -147,7 +144,6 @@ impl Program {
             }
             Program::Concrete => hjc_parts(part!("concrete.wgsl")),
             Program::FemStress => fem_stress_parts(part!("fem_stress.wgsl")),
-            Program::FemForces => step_parts(part!("fem_forces.wgsl")),
             Program::Integrate => step_parts(part!("integrate.wgsl")),
             Program::ContactDetect => step_parts(part!("contact_detect.wgsl")),
             Program::History => vec![part!("history.wgsl")],

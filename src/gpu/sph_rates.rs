@@ -236,7 +236,7 @@ mod tests {
         };
         use crate::gpu::neighbours::{capacity, NeighboursPass, MOVED2_OFFSET};
         use crate::gpu::params::StepUniform;
-        use crate::gpu::state::GpuNodes;
+        use crate::gpu::state::{GpuElements, GpuNodes};
         use crate::gpu::timestep;
         let gpu = test_gpu();
         let mut run = smoke_run(SMOKE_STEPS, &[]);
@@ -291,6 +291,7 @@ mod tests {
         let status = gpu.buffer("status", &[STATUS_CLEAR; STATUS_WORDS]);
         let slots = timestep::DtSlots::new(&gpu);
         let nodes = GpuNodes::upload(&gpu, &sim.projectile.nodes);
+        let elements = GpuElements::upload(&gpu, &sim.projectile.elements);
         let acc = Accumulators::new(&gpu, gp.len, nodes.len);
         let watch = IntegratePass::new(
             &gpu,
@@ -305,6 +306,7 @@ mod tests {
                 contact: None,
             }),
             &nodes,
+            &elements,
             &acc,
         )
         .unwrap();

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! apply (k−1's corrected slaves) → neighbours → sph_rates → concrete → sph_forces
-//!   → fem_stress → fem_forces → integrate (Δt_k into the clock) → contact detect
+//!   → fem_stress → integrate (nodal forces gathered, Δt_k into the clock) → contact detect
 //!   → copy clock, watch, status, nodes, hits to the staging buffer (`readback.rs`)
 //! ```
 //!
@@ -29,7 +29,6 @@ use std::time::Instant;
 
 use super::batch::Batch;
 use super::contact_detect::ContactPass;
-use super::fem_forces::FemForcesPass;
 use super::fem_stress::FemStressPass;
 use super::integrate::{
     Accumulators, IntegratePass, TargetBindings, STATUS_CLEAR, STATUS_INVERTED_ELEMENT,
@@ -148,7 +147,8 @@ pub struct HostSeconds {
     pub wait: f64,
 }
 
-/// The step's passes in recording order, as the profiler names its intervals.
+/// The step's passes in recording order, as the profiler names its intervals (`fem_forces`'
+/// is empty on the GPU, where the integration gathers the nodal forces).
 pub const PROFILED: [&str; 9] = [
     "contact_apply",
     "neighbours",
@@ -327,7 +327,6 @@ impl GpuStep {
                     &status,
                     &plastic_total,
                 )?,
-                forces: FemForcesPass::new(&gpu, &nodes, &elements, &uniform)?,
                 _uniform: uniform,
             })
         } else {
@@ -346,6 +345,7 @@ impl GpuStep {
                 contact: p.contact.as_ref().map(|c| (&c.box_keys, &c.hits)),
             }),
             &nodes,
+            &elements,
             &acc,
         )?;
 
@@ -505,7 +505,8 @@ impl GpuStep {
                 (Pass::Concrete, Some(s), _) => s.concrete.record(pass),
                 (Pass::SphForces, Some(s), _) => s.forces.record(pass, self.dt_slot),
                 (Pass::FemStress, _, Some(f)) => f.stress.record(pass, self.dt_slot),
-                (Pass::FemForces, _, Some(f)) => f.forces.record(pass),
+                // The integration gathers the nodal forces (integrate.wgsl).
+                (Pass::FemForces, _, Some(_)) => {}
                 // A pass is built exactly when it is in the list (`new`).
                 _ => {}
             }
@@ -766,11 +767,10 @@ impl GpuStep {
     }
 }
 
-/// The projectile's two passes and the FemUniform they share.
+/// The projectile's stress pass and its FemUniform (the integration gathers the nodal forces).
 struct FemPasses {
     stress: FemStressPass,
-    forces: FemForcesPass,
-    // Kept alive for the bind groups.
+    // Kept alive for the bind group.
     _uniform: wgpu::Buffer,
 }
 

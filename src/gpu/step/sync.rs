@@ -107,6 +107,9 @@ impl GpuStep {
         GpuNodes::take(&read, &nodes, &mut projectile.nodes);
         if let Some(parts) = elements {
             GpuElements::take(&read, &parts, &mut projectile.elements);
+            // The GPU gathers the nodal forces at the start of the next integration: the
+            // host's are the same gather, in the same order, of the forces just read.
+            crate::cpu::fem_forces::run(&mut projectile.nodes, &projectile.elements);
         }
         let totals = Totals {
             boundary_impulse: particle_impulse + sum(node_impulse),
