@@ -148,8 +148,19 @@ mod tests {
         }
     }
 
-    /// The 277 m/s shot (forrestal1994.csv: m = 0.906 kg, f_c = 35.2 MPa; a = 13.45 mm, ψ = 2,
-    /// ρ = 2370 kg/m³), by hand:
+    /// The 277 m/s shot's inputs (forrestal1994.csv: m = 0.906 kg, f_c = 35.2 MPa; a = 13.45 mm,
+    /// ψ = 2, ρ = 2370 kg/m³).
+    fn shot_277() -> Inputs {
+        Inputs {
+            mass: 0.906,
+            shank_radius: 0.01345,
+            crh: 2.0,
+            density: 2370.0,
+            fc: 35.2e6,
+        }
+    }
+
+    /// The 277 m/s shot by hand:
     ///   N = (16 − 1)/96 = 0.15625
     ///   S = 82.6 · 35.2^−0.544 = 82.6 · exp(−0.544 · 3.56105) = 82.6 · 0.144106 = 11.9031
     ///   S f_c = 4.18990e8 Pa;  4πa³ = 4π · 2.43314e-6 = 3.05757e-5 m³
@@ -161,13 +172,7 @@ mod tests {
     /// (measured: 0.173 m).
     #[test]
     fn depth_matches_the_hand_calculation() {
-        let shot = Inputs {
-            mass: 0.906,
-            shank_radius: 0.01345,
-            crh: 2.0,
-            density: 2370.0,
-            fc: 35.2e6,
-        };
+        let shot = shot_277();
         assert_eq!(shot.nose_factor(), 0.15625);
         assert!((shot.strength_factor() - 11.9031).abs() < 1e-4);
         let p = shot.depth(277.0).unwrap();
@@ -189,13 +194,7 @@ mod tests {
     /// and with c = 4a it is `depth`.
     #[test]
     fn the_li_chen_crater_matches_the_hand_calculation() {
-        let shot = Inputs {
-            mass: 0.906,
-            shank_radius: 0.01345,
-            crh: 2.0,
-            density: 2370.0,
-            fc: 35.2e6,
-        };
+        let shot = shot_277();
         assert!((shot.nose_length() - 0.0355854).abs() < 1e-7);
         let p = shot.depth_with_crater(277.0, Crater::LiChen).unwrap();
         assert!((p - 0.16871).abs() < 2e-5, "{p}");
