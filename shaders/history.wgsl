@@ -1,11 +1,11 @@
 // `history` (host twin: Model::kinetic_energy, internal_target, momentum_z, fastest and the
-// boundary impulse's particle sum, src/solver): what a history row needs of the particles, reduced on
-// the GPU so that the row reads a few words per workgroup instead of every particle. Each
-// workgroup folds its particles' kinetic energy ½ m |v|², internal energy m e, wall impulse and
-// z-momentum m v_z
-// in a fixed tree (the same bits every run) and finds its fastest particle (the lowest index
-// on a tie, as the host's fold); the host sums the workgroups' partials in f64. Thread i also
-// copies slave i's position for the host's check for slaves left inside the projectile.
+// boundary impulse's particle sum, src/solver): what a history row needs of the particles,
+// reduced on the GPU so that the row reads eight words per chunk of particles instead of every
+// particle. Thread t folds the kinetic energy ½ m |v|², internal energy m e, wall impulse and
+// z-momentum m v_z of particles [t·HISTORY_CHUNK, (t + 1)·HISTORY_CHUNK) in index order (the
+// same bits every run; no workgroup barrier, which lavapipe makes slow) and finds their fastest
+// (the first of the fastest, as the host's fold); the host sums the chunks in order, in f64.
+// Thread t also copies slave t's position for the host's check for slaves left inside.
 
 // n_particles, n_slaves.
 @group(0) @binding(0) var<storage, read> counts: vec2<u32>;
