@@ -81,22 +81,3 @@ setup_vulkan() {
     fi
 }
 
-# A Python 3 with numpy for the cavity-expansion script's checks (tests/scripts.rs): the first of
-# `python3` and the system's /usr/bin/python3 that imports numpy, installing Debian's
-# python3-numpy when neither does. Exported as PENETRATE_PYTHON; without one those tests fail,
-# saying what to install.
-setup_numpy() {
-    local py
-    for py in python3 /usr/bin/python3; do
-        if "$py" -c 'import numpy' >/dev/null 2>&1; then
-            export PENETRATE_PYTHON="$py"
-            return
-        fi
-    done
-    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-        setup_apt python3-numpy
-        export PENETRATE_PYTHON=/usr/bin/python3
-    else
-        echo "$0: no python3 with numpy found; the cavity-expansion checks will fail. Install python3-numpy (as root: apt-get install python3-numpy)." >&2
-    fi
-}

@@ -1,9 +1,6 @@
 //! The set-up the two README commands share (`scripts/setup.sh`): its Rust version gate keeps a
 //! recent enough `cargo` and replaces an older one, and its minimum is what the locked crates
-//! ask for. And the cavity-expansion script (`scripts/cavity_expansion.py`), whose resistances
-//! docs/notes/2026-11-nose-shape.md quotes, passes its own checks against closed forms (the
-//! elastic cavity, Hill's plastic limit, the ogive's integrals) and against the numbers of
-//! `hjc.rs`'s unit tests.
+//! ask for.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -131,44 +128,4 @@ fn the_scripted_minimum_is_what_the_locked_crates_ask() {
         asked.1,
         asked.0
     );
-}
-
-/// `scripts/cavity_expansion.py --check [--geometry G]` with the Python that `scripts/setup.sh`
-/// found (`PENETRATE_PYTHON`, else `python3`): it must exit 0 and say every check passed.
-fn cavity_expansion_check(geometry: &str) {
-    let python = std::env::var("PENETRATE_PYTHON").unwrap_or_else(|_| "python3".into());
-    let numpy = Command::new(&python).args(["-c", "import numpy"]).status();
-    assert!(
-        matches!(numpy, Ok(s) if s.success()),
-        "`{python}` cannot import numpy: run the tests with `bash scripts/test`, which installs \
-         it, or install python3-numpy (apt-get install python3-numpy)"
-    );
-    let out = Command::new(&python)
-        .args([
-            "scripts/cavity_expansion.py",
-            "--check",
-            "--geometry",
-            geometry,
-        ])
-        .current_dir(root())
-        .output()
-        .expect("python");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success() && text.contains("verification PASSED") && !text.contains("FAIL"),
-        "{geometry} check failed:\n{text}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-#[test]
-#[ignore = "full tier: long run, needs numpy (bash scripts/test)"]
-fn the_spherical_cavity_expansion_passes_its_checks() {
-    cavity_expansion_check("spherical");
-}
-
-#[test]
-#[ignore = "full tier: long run, needs numpy (bash scripts/test)"]
-fn the_cylindrical_cavity_expansion_passes_its_checks() {
-    cavity_expansion_check("cylindrical");
 }

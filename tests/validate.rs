@@ -142,6 +142,17 @@ fn quick_validation_writes_every_section() {
             "{csv}: {lines:?}"
         );
     }
+    // Every shot has the concrete law's own depth beside it (a quick, short expansion here).
+    for csv in ["forrestal/forrestal.csv", "crh3-rods/crh3-rods.csv"] {
+        let (header, lines) = common::csv_file(&out.join(csv));
+        let law = header.iter().position(|h| h == "law_depth_m").unwrap();
+        assert!(
+            lines.iter().all(|l| l[law]
+                .parse::<f64>()
+                .is_ok_and(|d| d.is_finite() && d > 0.0)),
+            "{csv}: {lines:?}"
+        );
+    }
     // Five sweep speeds and the bisection's run: the quick speeds bracket the wall's damage
     // onset (150-200 m/s there), so the bisection runs once and finds it.
     let shell = csv_rows(&out.join("shell/shell.csv"));

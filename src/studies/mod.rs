@@ -7,6 +7,7 @@
 //! `Simulation`), as any user of the library would, so nothing in the physics depends on them.
 
 pub mod bench;
+pub mod cavity;
 pub mod lining;
 pub mod slurm;
 pub mod stability;

@@ -2,8 +2,10 @@
 //! measurements and Forrestal's equation, the accuracy rule over all of them, and the
 //! target-size check. Depth error against run time is in `convergence`.
 
+use crate::materials::hjc::Hjc;
 use crate::output::plot::{Chart, Mark};
 use crate::scene::{self, ProjectileShape, Scene};
+use crate::studies::cavity::{self, Concrete, Expansion, Resistance};
 use crate::studies::sweep::{self, RunRecord};
 
 use super::context::{Ask, Context};
@@ -166,6 +168,9 @@ pub(super) struct ShotError {
     pub simulated: Option<f64>,
     /// Forrestal's equation against measured depth; `None` below the equation's crater speed.
     pub equation: Option<f64>,
+    /// The concrete law's own depth (a rigid ogive against its cavity expansion) against
+    /// measured; `None` where it stops in the crater.
+    pub law: Option<f64>,
 }
 
 pub(super) fn forrestal(ctx: &mut Context) -> Result<(SectionOut, Vec<ShotError>), ValidateError> {
@@ -192,6 +197,7 @@ pub(super) fn crh3_rods(ctx: &mut Context) -> Result<(SectionOut, Vec<ShotError>
 pub(super) fn all_shots_check(errors: &[ShotError]) -> Check {
     let simulated: Vec<f64> = errors.iter().filter_map(|e| e.simulated).collect();
     let equation: Vec<f64> = errors.iter().filter_map(|e| e.equation).collect();
+    let law: Vec<f64> = errors.iter().filter_map(|e| e.law).collect();
     let all_ran = simulated.len() == errors.len();
     Check {
         section: Section::Crh3Rods,
@@ -202,10 +208,13 @@ pub(super) fn all_shots_check(errors: &[ShotError]) -> Check {
             100.0 * MEAN_TOLERANCE
         ),
         result: format!(
-            "mean absolute error {:.1} % (Forrestal's equation {:.1} % on {} of them), worst {}",
+            "mean absolute error {:.1} % (Forrestal's equation {:.1} % on {} of them, the \
+             concrete law's own {:.1} % on {}), worst {}",
             100.0 * mean_abs(&simulated),
             100.0 * mean_abs(&equation),
             equation.len(),
+            100.0 * mean_abs(&law),
+            law.len(),
             simulated
                 .iter()
                 .copied()
@@ -233,6 +242,7 @@ fn depth_section(
 ) -> Result<(SectionOut, Vec<ShotError>), ValidateError> {
     let asks = cases.iter().map(|c| shot_ask(ctx, c, &[])).collect();
     let records = ctx.run(section, asks, false)?;
+    let laws = law_depths(ctx, section, cases)?;
     let mut sets: Vec<&str> = Vec::new();
     for c in cases {
         if !sets.contains(&c.shot.set.as_str()) {
@@ -244,8 +254,8 @@ fn depth_section(
     let mut table_rows = Vec::new();
     let mut errors = Vec::new();
     // Per set: measured, equation and simulated (speed, depth) points.
-    let mut points = vec![(Vec::new(), Vec::new(), Vec::new()); sets.len()];
-    for (c, r) in cases.iter().zip(&records) {
+    let mut points = vec![(Vec::new(), Vec::new(), Vec::new(), Vec::new()); sets.len()];
+    for ((c, r), law) in cases.iter().zip(&records).zip(laws) {
         let v = c.shot.velocity;
         let k = sets.iter().position(|s| *s == c.shot.set).unwrap_or(0);
         let predicted = c.equation()?.depth(v);
@@ -261,14 +271,19 @@ fn depth_section(
             .map(|s| s.depth_m);
         let error = depth.map(|d| d / c.shot.depth - 1.0);
         let vs_equation = depth.zip(predicted).map(|(d, p)| d / p - 1.0);
+        let law_error = law.map(|d| d / c.shot.depth - 1.0);
         errors.push(ShotError {
             simulated: error,
             equation: predicted.map(|p| p / c.shot.depth - 1.0),
+            law: law_error,
         });
-        let (measured, equation, simulated) = &mut points[k];
+        let (measured, equation, simulated, by_law) = &mut points[k];
         measured.push((v, c.shot.depth));
         if let Some(p) = predicted {
             equation.push((v, p));
+        }
+        if let Some(d) = law {
+            by_law.push((v, d));
         }
         if let Some(d) = depth {
             simulated.push((v, d));
@@ -284,6 +299,8 @@ fn depth_section(
             or_dash(s, |s| s.depth_m.to_string()),
             or_dash(error, |e| e.to_string()),
             or_dash(vs_equation, |e| e.to_string()),
+            or_dash(law, |d| d.to_string()),
+            or_dash(law_error, |e| e.to_string()),
             r.status().to_string(),
             or_dash(moving, |v| v.to_string()),
             or_dash(s, |s| s.particles.to_string()),
@@ -304,6 +321,8 @@ fn depth_section(
             or_dash(s, |s| format!("{:.3}", s.depth_m)),
             or_dash(error, pct),
             or_dash(vs_equation, pct),
+            or_dash(law, |d| format!("{d:.3}")),
+            or_dash(law_error, pct),
             or_dash(s, |s| format!("{:.3}", s.max_plastic_strain)),
             or_dash(s, |s| format!("{:.3}", s.max_damage)),
             or_dash(s, |s| format!("{:.0}", s.wall_s)),
@@ -319,6 +338,7 @@ fn depth_section(
     }
     let complete: Vec<f64> = errors.iter().filter_map(|e| e.simulated).collect();
     let equation_errors: Vec<f64> = errors.iter().filter_map(|e| e.equation).collect();
+    let law_errors: Vec<f64> = errors.iter().filter_map(|e| e.law).collect();
     let all_ran = complete.len() == errors.len();
     let check = Check {
         section,
@@ -351,6 +371,8 @@ fn depth_section(
             "depth_m",
             "error_vs_measured",
             "error_vs_equation",
+            "law_depth_m",
+            "law_error_vs_measured",
             "status",
             "still_moving_m_s",
             "particles",
@@ -370,7 +392,7 @@ fn depth_section(
         "striking speed (m/s)",
         "depth of penetration (m)",
     );
-    for (set, (measured, equation, simulated)) in sets.iter().zip(points) {
+    for (set, (measured, equation, simulated, by_law)) in sets.iter().zip(points) {
         let named = |what: &str| {
             if several {
                 format!("{what}, {set}")
@@ -381,7 +403,8 @@ fn depth_section(
         chart = chart
             .series(&named("measured"), measured, Mark::Points)
             .series(&named("Forrestal's equation"), equation, Mark::LinePoints)
-            .series(&named("simulated"), simulated, Mark::LinePoints);
+            .series(&named("simulated"), simulated, Mark::LinePoints)
+            .series(&named("concrete law, rigid"), by_law, Mark::LinePoints);
     }
     let plot = ctx.plot(section, "depth-vs-velocity.png", &chart)?;
     let resistance = resistance(ctx, section, cases, &records)?;
@@ -431,6 +454,8 @@ fn depth_section(
         "simulated (m)",
         "vs measured",
         "vs equation",
+        "concrete law (m)",
+        "vs measured",
         "plastic strain",
         "damage",
         "wall (s)",
@@ -440,9 +465,21 @@ fn depth_section(
         header.insert(0, "set");
     }
     md += &table(&header, &table_rows);
-    md += "\nPlastic strain and damage: the projectile's largest at the end. The CSV adds the \
-           pressure checkerboard and the cells' volume alternation (`summary.json`'s \
-           `checkerboard_pa`, `volume_checkerboard`).\n\n";
+    md += &format!(
+        "\nConcrete law: the depth a rigid, frictionless ogive of the shot's mass, shank and \
+         nose reaches against the resistance the concrete model itself offers, free of the SPH, \
+         the contact and the projectile's deformation (physics.md §8): the normal stress on each \
+         point of the nose is the wall traction of a spherical cavity expanded in the concrete \
+         of the shot's scene (its HJC constants, the static tension cut-off) at the \
+         point's normal speed, with Forrestal's 4a crater. Its mean absolute error is {:.1} % \
+         over {} shot(s): where it misses, the simulation cannot be expected to hit by its \
+         numerics; the simulation's distance from it is the numerics' share. Plastic strain and \
+         damage: the projectile's largest at the end. The CSV adds the pressure checkerboard \
+         and the cells' volume alternation (`summary.json`'s `checkerboard_pa`, \
+         `volume_checkerboard`).\n\n",
+        100.0 * mean_abs(&law_errors),
+        law_errors.len(),
+    );
     md += &plot;
     md += &resistance;
     Ok((
@@ -452,6 +489,56 @@ fn depth_section(
         },
         errors,
     ))
+}
+
+/// Each shot's depth by the concrete law alone (`studies::cavity`): one resistance table per
+/// concrete (f_c and density), reaching the fastest shot into it.
+fn law_depths(
+    ctx: &mut Context,
+    section: Section,
+    cases: &[ShotCase],
+) -> Result<Vec<Option<f64>>, ValidateError> {
+    let how = if ctx.settings.quick {
+        Expansion::QUICK
+    } else {
+        Expansion::FULL
+    };
+    let mut tables: Vec<(Hjc, Resistance)> = Vec::new();
+    let mut depths = Vec::new();
+    for c in cases {
+        let e = c.equation()?;
+        let Some(h) = c.scene.target.as_ref().map(|t| t.concrete) else {
+            depths.push(None);
+            continue;
+        };
+        if !tables.iter().any(|(k, _)| *k == h) {
+            let fastest = cases
+                .iter()
+                .filter(|d| d.scene.target.as_ref().is_some_and(|t| t.concrete == h))
+                .map(|d| d.shot.velocity)
+                .fold(0.0, f64::max);
+            let mut speeds = cavity::speeds_up_to(fastest);
+            if ctx.settings.quick {
+                speeds.retain(|&v| v == 25.0 || v == 200.0 || v >= fastest);
+            }
+            let started = std::time::Instant::now();
+            let law = Resistance::of(&Concrete::new(h), &speeds, how);
+            (ctx.progress)(&format!(
+                "{} concrete law: f_c {:.1} MPa, ρ {} kg/m³, {} cavity expansions, {:.1} s",
+                section.name(),
+                h.fc * 1e-6,
+                h.density,
+                speeds.len(),
+                started.elapsed().as_secs_f64()
+            ));
+            tables.push((h, law));
+        }
+        let law = tables.iter().find(|(k, _)| *k == h).map(|(_, l)| l);
+        depths.push(law.and_then(|law| {
+            cavity::law_depth(law, e.mass, e.shank_radius, e.crh, c.shot.velocity)
+        }));
+    }
+    Ok(depths)
 }
 
 /// History rows either side of each point of the resistance's least-squares slope.
