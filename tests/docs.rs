@@ -1,6 +1,6 @@
 //! The documentation holds together: every relative link of the README and the manual
-//! (`docs/`, `docs/notes/`, `data/README.md`, `CHANGELOG.md`) names a file or folder in the
-//! repository, and a link to a heading names one the page has; every docs page and `physics.md`
+//! (`docs/`, `docs/notes/`, the committed validation report, `data/README.md`,
+//! `CHANGELOG.md`) names a file or folder in the repository, and a link to a heading names one the page has; every docs page and `physics.md`
 //! section that the source cites exists; and the README stays a short page for users.
 
 use std::collections::BTreeSet;
@@ -19,7 +19,7 @@ fn pages() -> Vec<PathBuf> {
         .iter()
         .map(|p| root().join(p))
         .collect();
-    for dir in ["docs", "docs/notes"] {
+    for dir in ["docs", "docs/notes", "docs/validation"] {
         let mut found: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
             .unwrap_or_else(|e| panic!("{dir}: {e}"))
             .map(|e| e.unwrap().path())
