@@ -4,7 +4,9 @@
 // (+ R_ij f_ij^n)] · ∇_i W_ij with w = r for a neighbour and −r for a mirror ghost pair, plus the
 // hoop source a_r += −σ_θθ n_i/(ρ r) (n_i: hoop_weight, from sph_rates); Monaghan–Gingold
 // viscosity Π_ij with its heating, Gray–Monaghan artificial stress R when enabled, the Balsara
-// switch on Π when enabled, and the work-conjugate energy rate.
+// switch on Π when enabled, and the work-conjugate energy rate. With RECONSTRUCT Π reads the
+// approach left at the pair's midpoint after a limited linear reconstruction from both ends'
+// l_visc (sph_forces.rs `reconstructed_jump`); the time step still the raw one.
 // It also folds each particle's stable step into the clock (step.wgsl).
 // Needs params.wgsl, step.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
 // neighbour_loop.wgsl.
@@ -25,6 +27,7 @@
 // The clock's running minima of the slot `fold_slot` (step.wgsl).
 @group(0) @binding(26) var<storage, read_write> clock: ClockAtomic;
 @group(0) @binding(27) var<uniform> fold_slot: DtSlot;
+@group(0) @binding(28) var<storage, read> l_visc: array<vec4<f32>>;
 
 // The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
 // constant, so a scene without it compiles without it (a branch not taken still costs on a
@@ -32,6 +35,8 @@
 override ART_STRESS: bool;
 // The Balsara switch is on (SphParams::balsara): Π is scaled by the pair's mean visc_switch.
 override BALSARA: bool;
+// target.viscosity_jump = "reconstructed" (SphParams::reconstruct_viscosity).
+override RECONSTRUCT: bool;
 
 // Smallest base handed to pow (undefined for a base <= 0); W > 0 inside the support anyway.
 const POW_BASE_FLOOR: f32 = 1.0e-30;
@@ -56,6 +61,28 @@ struct Gather {
     visc_switch: f32,
     // hoop_radius(r_i)
     ri: f32,
+    // l_visc[i], with RECONSTRUCT
+    l: vec4<f32>,
+}
+
+// sph_forces.rs `reconstructed_jump`, in its order of operations: the approach vx < 0 left at
+// the pair's midpoint, van Leer-limited; never below vx, 0 where none is left.
+fn reconstructed_jump(vx: f32, x: vec2<f32>, li: vec4<f32>, lj: vec4<f32>) -> f32 {
+    let qi = x.x * (li.x * x.x + li.y * x.y) + x.y * (li.z * x.x + li.w * x.y);
+    let qj = x.x * (lj.x * x.x + lj.y * x.y) + x.y * (lj.z * x.x + lj.w * x.y);
+    var ratio = 0.0;
+    if (qj != 0.0) {
+        ratio = qi / qj;
+    }
+    var phi = 0.0;
+    if (ratio > 0.0) {
+        phi = min(4.0 * ratio / ((1.0 + ratio) * (1.0 + ratio)), 1.0);
+    }
+    let left = vx - 0.5 * phi * (qi + qj);
+    if (left < 0.0) {
+        return max(left, vx);
+    }
+    return 0.0;
 }
 
 // The pair term of neighbour j (its mirror image when sign = −1) at separation d = x_i − x_j.
@@ -79,7 +106,16 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     let dvz = (*g).v.y - vj.y;
     let vx = dvr * d.x + dvz * d.y;
     if (vx < 0.0) {
-        let mu = h * vx / (dist * dist + ETA2 * h * h);
+        // The time step allows for the raw jump.
+        (*g).mu_max = max((*g).mu_max, -h * vx / (dist * dist + ETA2 * h * h));
+    }
+    var jump = vx;
+    if (RECONSTRUCT && vx < 0.0) {
+        let lj = l_visc[j];
+        jump = reconstructed_jump(vx, d, (*g).l, vec4<f32>(lj.x, sign * lj.y, sign * lj.z, lj.w));
+    }
+    if (jump < 0.0) {
+        let mu = h * jump / (dist * dist + ETA2 * h * h);
         let cj = pair_c[j];
         let c_mean = 0.5 * ((*g).sound + cj.x);
         let rho_mean = 0.5 * ((*g).rho + cj.y);
@@ -90,7 +126,6 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
         t.x -= pi;
         t.y -= pi;
         (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y) / ri;
-        (*g).mu_max = max((*g).mu_max, -mu);
     }
     if (ART_STRESS) {
         let ri_art = (*g).art;
@@ -114,7 +149,10 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ki = kin[i];
     let ci = pair_c[i];
     var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw,
-        ci.x, ci.y, ci.z, hoop_radius(ki.x, u.kernel.h));
+        ci.x, ci.y, ci.z, hoop_radius(ki.x, u.kernel.h), vec4<f32>(0.0));
+    if (RECONSTRUCT) {
+        g.l = l_visc[i];
+    }
     if (ART_STRESS) {
         g.art = vec3_of(art_stress[i]);
     }

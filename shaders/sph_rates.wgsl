@@ -5,6 +5,9 @@
 // L is the conjugate gradient (1/ρ_i) Σ m̃_j (v_j − v_i) ⊗ ∇W, uncorrected, and the hoop rate
 // n_i v_r/r (sph_rates.rs). Both modes write the hoop weight
 // n_i = Σ m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i, which sph_forces and concrete read.
+// With RECONSTRUCT, also each particle's corrected gradient of its own velocity, l_visc, for
+// sph_forces' reconstructed viscosity: L itself, or with CONJUGATE a second G gathered with
+// m̃_j/ρ_j and corrected by M.
 // m̃ and m̃/ρ are the neighbours pass's (`pack`, this step's positions), which packs what a
 // neighbour gives here for one load (`rate_pair`: m̃/ρ, (m̃/ρ) ρ, m̃, hoop_radius(r)).
 // Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
@@ -20,20 +23,24 @@
 @group(0) @binding(15) var<storage, read_write> drho: array<f32>;
 @group(0) @binding(16) var<storage, read_write> visc_switch: array<f32>;
 @group(0) @binding(17) var<storage, read_write> hoop_weight: array<f32>;
+@group(0) @binding(18) var<storage, read_write> l_visc: array<vec4<f32>>;
 
 // The Balsara switch is on (SphParams::balsara): a pipeline constant, as ART_STRESS in
 // sph_forces.wgsl. Off, visc_switch keeps the 1 it was uploaded with.
 override BALSARA: bool;
 // target.velocity_gradient = "conjugate" (SphParams::conjugate_gradient).
 override CONJUGATE: bool;
+// target.viscosity_jump = "reconstructed" (SphParams::reconstruct_viscosity).
+override RECONSTRUCT: bool;
 
 // G = Σ (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇W and M = Σ (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇W, row-major
-// (rr, rz, zr, zz).
+// (rr, rz, zr, zz); M always with m̃_j/ρ_j (with CONJUGATE only the corrected gc needs it).
 // v is particle i's velocity and rho_i its density, loaded once (a driver may not hoist loads
 // out of the loop).
 // weight: Σ m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij with w = ±r as in sph_forces; ri: hoop_radius(r_i).
 struct Gather {
     g: vec4<f32>,
+    gc: vec4<f32>,
     m: vec4<f32>,
     v: vec2<f32>,
     rho_i: f32,
@@ -54,7 +61,11 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
     let dvz = vj.y - (*acc).v.y;
     // Products in the CPU's order, (a v) w, for the closest agreement.
     (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
-    (*acc).m -= vec4<f32>(a * d.x * gw.x, a * d.x * gw.y, a * d.y * gw.x, a * d.y * gw.y);
+    let c = nb.x;
+    if (RECONSTRUCT && CONJUGATE) {
+        (*acc).gc += vec4<f32>(c * dvr * gw.x, c * dvr * gw.y, c * dvz * gw.x, c * dvz * gw.y);
+    }
+    (*acc).m -= vec4<f32>(c * d.x * gw.x, c * d.x * gw.y, c * d.y * gw.x, c * d.y * gw.y);
     let ri = (*acc).ri;
     let rj = nb.w;
     (*acc).weight += nb.z * (sign * ri + sign * rj - 2.0 * ri) * gw.x;
@@ -80,7 +91,7 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
     if (i >= u.n) { return; }
     let ki = kin[i];
-    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), ki.zw, rho[i], hoop_radius(ki.x, u.kernel.h), 0.0);
+    var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), ki.zw, rho[i], hoop_radius(ki.x, u.kernel.h), 0.0);
     for_each_neighbour(&acc, i);
     var l = acc.g;
     if (!CONJUGATE) {
@@ -90,6 +101,13 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     l_rz[i] = l.y;
     l_zr[i] = l.z;
     l_zz[i] = l.w;
+    if (RECONSTRUCT) {
+        if (CONJUGATE) {
+            l_visc[i] = correct(acc.gc, acc.m);
+        } else {
+            l_visc[i] = l;
+        }
+    }
     let n = acc.weight / rho[i];
     hoop_weight[i] = n;
     let div = l.x + l.w + hoop_rate(ki.z, ki.x, u.kernel.h, n, CONJUGATE);

@@ -62,6 +62,10 @@ pub struct Particles {
     /// free face normal to r), from `sph_rates`: the hoop source's weight in `sph_forces`, and
     /// with the conjugate gradient the weight on the hoop rate `v_r/r` as well.
     pub hoop_weight: Vec<f32>,
+    /// The corrected velocity gradient (rr, rz, zr, zz) whose slopes the viscosity's
+    /// reconstruction takes, from `sph_rates`; zero unless `target.viscosity_jump =
+    /// "reconstructed"`.
+    pub l_visc: Vec<[f32; 4]>,
     /// Total stress over ρ² (rr, zz, rz) and the Gray–Monaghan artificial stress, from the
     /// start of `sph_forces`.
     pub stress_rho2: Vec<[f32; 3]>,
@@ -133,6 +137,7 @@ impl Particles {
             m_tilde: zero.clone(),
             area: zero,
             hoop_weight: vec![1.0; n],
+            l_visc: vec![[0.0; 4]; n],
             stress_rho2: vec![[0.0; 3]; n],
             art_stress: vec![[0.0; 3]; n],
             fixed,
@@ -150,6 +155,9 @@ pub struct SphParams {
     pub beta: f32,
     /// Scale Π by the Balsara switch (`target.viscosity_switch = "balsara"`).
     pub balsara: bool,
+    /// Π reads the reconstructed velocity jump (`target.viscosity_jump = "reconstructed"`,
+    /// `cpu::sph_forces`), with the corrected gradients `Particles::l_visc`.
+    pub reconstruct_viscosity: bool,
     /// Take L from the filtered velocity (`target.velocity_filter = "linear"`,
     /// `cpu::sph_rates`).
     pub velocity_filter: bool,
@@ -176,6 +184,8 @@ impl SphParams {
             alpha: spec.viscosity_alpha as f32,
             beta: spec.viscosity_beta as f32,
             balsara: spec.viscosity_switch == crate::scene::ViscositySwitch::Balsara,
+            reconstruct_viscosity: spec.viscosity_jump
+                == crate::scene::ViscosityJump::Reconstructed,
             velocity_filter: spec.velocity_filter == crate::scene::VelocityFilter::Linear,
             conjugate_gradient: spec.velocity_gradient == crate::scene::VelocityGradient::Conjugate,
             art_stress_eps: if spec.artificial_stress { 0.3 } else { 0.0 },

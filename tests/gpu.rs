@@ -234,6 +234,29 @@ fn gpu_depth_matches_cpu_with_the_velocity_filter() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// With the reconstructed viscosity: the GPU's second, corrected gather in `sph_rates` and the
+/// reconstruction in `sph_forces` give the CPU's depth within 0.5 % and its account, and the
+/// reconstruction moves the depth (or this would not test it).
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn gpu_depth_matches_cpu_with_the_reconstructed_viscosity() {
+    let dir = std::env::temp_dir().join(format!(
+        "penetrate-test-{}-gpu-reconstructed",
+        std::process::id()
+    ));
+    let (cpu, gpu) = short_penetration(&["target.viscosity_jump=\"reconstructed\""], &dir);
+    books_the_cpu_account(&cpu, &gpu);
+    let raw = short_run(
+        &smoke(&["run.end_time=1e-4"]),
+        &dir.join("raw"),
+        Backend::Cpu,
+    );
+    let (d, d0) = (cpu.summary.depth_m, raw.summary.depth_m);
+    eprintln!("short penetration: {d} m reconstructed, {d0} m raw");
+    assert!(d != d0, "the reconstruction changes nothing");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// With Coulomb friction (μ = 0.3) too: the host's correction changes the slaves' and the
 /// nodes' tangential velocities, which the GPU must take back whole; the run ends at the CPU's
 /// depth within 0.5 % and books its account, and friction moves the depth.

@@ -414,6 +414,20 @@ fn bad_choices_and_conflicting_keys() {
             "\"corrected\" to filter",
         ],
     );
+    // The reconstructed viscosity takes the particles' own velocities too.
+    refused(
+        &smoke_text(),
+        &[
+            "target.velocity_gradient=\"corrected\"",
+            "target.velocity_filter=\"linear\"",
+            "target.viscosity_jump=\"reconstructed\"",
+        ],
+        &[
+            "target.viscosity_jump",
+            "target.velocity_filter",
+            "particles' own velocities",
+        ],
+    );
     refused(
         &smoke_with("shape = \"ogive\"", "shape = \"cylinder\""),
         &[],

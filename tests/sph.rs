@@ -1,13 +1,14 @@
 //! SPH target without a projectile (physics.md §3): rest stays rest, linear velocity fields give
 //! exact velocity gradients and simple stress fields the cylindrical divergence (axis ghosts
-//! included), a crushing slug conserves energy and axial momentum (with the Balsara switch too),
-//! and the switch takes the viscosity out of a shear and leaves it in a compression.
+//! included), a crushing slug conserves energy and axial momentum (with the Balsara switch and
+//! the reconstructed viscosity too), the switch takes the viscosity out of a shear and leaves
+//! it in a compression, and the reconstruction takes it out of a smooth compression.
 
 use penetrate::cpu::{concrete, integrate, neighbours, sph_forces, sph_rates, timestep};
 use penetrate::materials::hjc::Hjc;
 use penetrate::mesh::target::lattice;
 use penetrate::scene::{
-    TargetSpec, TensionModel, VelocityFilter, VelocityGradient, ViscositySwitch,
+    TargetSpec, TensionModel, VelocityFilter, VelocityGradient, ViscosityJump, ViscositySwitch,
 };
 use penetrate::state::{Particles, SphParams};
 
@@ -23,6 +24,7 @@ fn spec(fix: bool) -> TargetSpec {
         viscosity_alpha: 1.0,
         viscosity_beta: 2.0,
         viscosity_switch: ViscositySwitch::None,
+        viscosity_jump: ViscosityJump::Raw,
         velocity_filter: VelocityFilter::None,
         velocity_gradient: VelocityGradient::Corrected,
         lead_hole_depth: 0.0,
@@ -404,21 +406,31 @@ fn lateral_face_pushes_out_as_the_front_face() {
 /// boundary acts, so the axial momentum is conserved to f32 round-off (1e-5 of the slug's).
 #[test]
 fn slug_impact_energy_closes() {
-    slug_impact(ViscositySwitch::None);
+    slug_impact(spec(false));
 }
 
 /// The same with the Balsara switch: the scaled Π stays symmetric in the pair and its heating
 /// is booked with it.
 #[test]
 fn slug_impact_energy_closes_with_the_balsara_switch() {
-    slug_impact(ViscositySwitch::Balsara);
+    slug_impact(TargetSpec {
+        viscosity_switch: ViscositySwitch::Balsara,
+        ..spec(false)
+    });
 }
 
-fn slug_impact(switch: ViscositySwitch) {
-    let s = TargetSpec {
-        viscosity_switch: switch,
+/// The same with the reconstructed viscosity: Π from the reconstructed jump, still symmetric
+/// in the pair, and its heating booked with it; the slug's front is a shock, so the
+/// viscosity still acts there.
+#[test]
+fn slug_impact_energy_closes_with_the_reconstructed_viscosity() {
+    slug_impact(TargetSpec {
+        viscosity_jump: ViscosityJump::Reconstructed,
         ..spec(false)
-    };
+    });
+}
+
+fn slug_impact(s: TargetSpec) {
     let (mut p, params) = target(&s);
     let slug = |p: &Particles, i: usize| p.r[i] < 0.012 && p.z[i] > -0.008;
     for i in 0..p.len() {
@@ -561,4 +573,66 @@ fn balsara_switch_removes_the_viscosity_from_shear_only() {
         eprintln!("compression: {name} differs from factor × unswitched by {e:e} of its largest");
         assert!(e < 1e-3, "{name} differs by {e} with the switch");
     }
+}
+
+/// The reconstructed viscosity (`target.viscosity_jump = "reconstructed"`) on the free target
+/// at rest in stress, at the particles two supports inside the free faces and off the axis
+/// (where the corrected gradient of a linear field is exact):
+/// - a uniform compression `v = (a r, b z)`, smooth, gets viscous heating below 10⁻³ of the
+///   raw jump's: each pair's approach is what both ends' gradients carry to the midpoint;
+/// - a jump in `v_z` between two uniform states across a plane keeps more than half of the raw
+///   jump's heating: the gradients the kernel smears over the jump carry the ends at most
+///   about a spacing over the kernel's width (⅓ here) of the way to each other.
+#[test]
+fn reconstruction_takes_the_viscosity_out_of_a_smooth_compression_only() {
+    let raw = spec(false);
+    let reconstructed = TargetSpec {
+        viscosity_jump: ViscosityJump::Reconstructed,
+        ..spec(false)
+    };
+    let (p0, params_raw) = target(&raw);
+    let params_rec = SphParams::new(&reconstructed);
+    assert!(params_rec.reconstruct_viscosity && !params_raw.reconstruct_viscosity);
+    let mut grid = neighbours::CellGrid::default();
+    neighbours::run(&mut grid, &p0.r, &p0.z, &params_raw.kernel);
+    let support = integrate::support(&params_raw) as f64;
+    let inner = |p: &Particles, i: usize| {
+        let (r, z) = (p.r[i] as f64, p.z[i] as f64);
+        r > 2.0 * support
+            && r + 2.0 * support < raw.radius
+            && z + 2.0 * support < 0.0
+            && z - 2.0 * support > -raw.thickness
+    };
+    let heat = |v: &dyn Fn(f32, f32) -> (f32, f32), params: &SphParams| -> f64 {
+        let mut p = p0.clone();
+        for i in 0..p.len() {
+            (p.vr[i], p.vz[i]) = v(p.r[i], p.z[i]);
+        }
+        sph_rates::run(&mut p, &grid, params);
+        sph_forces::run(&mut p, &grid, params);
+        (0..p.len())
+            .filter(|&i| inner(&p0, i))
+            .map(|i| p.mass[i] as f64 * p.de_visc[i] as f64)
+            .sum()
+    };
+
+    let squeeze = |r: f32, z: f32| (-3.0e3 * r, -5.0e3 * z);
+    let (off, on) = (heat(&squeeze, &params_raw), heat(&squeeze, &params_rec));
+    eprintln!("smooth compression: heating {on:e} reconstructed vs {off:e} raw");
+    assert!(off > 0.0, "no viscous heating in the compression");
+    assert!(
+        on.abs() < 1e-3 * off,
+        "heating left in a smooth compression"
+    );
+
+    let middle = -0.5 * raw.thickness as f32;
+    let jump = |_r: f32, z: f32| (0.0, if z > middle { -100.0 } else { 0.0 });
+    let (off, on) = (heat(&jump, &params_raw), heat(&jump, &params_rec));
+    eprintln!("jump: heating {on:e} reconstructed vs {off:e} raw");
+    assert!(off > 0.0, "no viscous heating across the jump");
+    assert!(
+        on > 0.5 * off,
+        "the jump lost its viscosity: {on:e} of {off:e}"
+    );
+    assert!(on <= off, "the reconstruction added heating");
 }

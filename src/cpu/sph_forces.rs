@@ -35,6 +35,13 @@
 //! (`visc_switch`, from `sph_rates`); the pair stays symmetric, so the conservation above holds.
 //! `mu_visc`, which the time step reads, is the unscaled μ: the step does not grow where the
 //! switch turns the viscosity off.
+//!
+//! With `target.viscosity_jump = "reconstructed"` Π reads, instead of the pair's approach
+//! `(v_i − v_j)·(x_i − x_j)`, what is left of it at the pair's midpoint once each end's
+//! velocity is carried there along its own corrected gradient (`l_visc`), the slopes limited
+//! ([`reconstructed_jump`]; docs/physics.md §3): a smooth compression, such as the concrete
+//! ahead of a nose being brought up to its speed over a spacing or two, is not read as a
+//! shock. The pair stays symmetric and `mu_visc` is still the raw μ.
 
 use rayon::prelude::*;
 
@@ -105,10 +112,12 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         visc_switch,
         m_tilde,
         hoop_weight,
+        l_visc,
         stress_rho2,
         art_stress,
         ..
     } = particles;
+    let l_visc = &*l_visc;
     let (r, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
         &*r,
         &*vr,
@@ -156,7 +165,16 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 let dvz = vz[i] - vz[j];
                 let vx = dvr * nb.dr + dvz * nb.dz;
                 if vx < 0.0 {
-                    let mu = h * vx / (nb.dist * nb.dist + ETA2 * h * h);
+                    // The time step allows for the raw jump.
+                    mu_max = mu_max.max(-h * vx / (nb.dist * nb.dist + ETA2 * h * h));
+                }
+                let jump = if params.reconstruct_viscosity && vx < 0.0 {
+                    reconstructed_jump(vx, [nb.dr, nb.dz], l_visc[i], mirrored(l_visc[j], sign))
+                } else {
+                    vx
+                };
+                if jump < 0.0 {
+                    let mu = h * jump / (nb.dist * nb.dist + ETA2 * h * h);
                     let c_mean = 0.5 * (sound[i] + sound[j]);
                     let rho_mean = 0.5 * (rho[i] + rho[j]);
                     let mut pi =
@@ -168,7 +186,6 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                     t[0] -= pi;
                     t[1] -= pi;
                     heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]) / ri;
-                    mu_max = mu_max.max(-mu);
                 }
                 if art_on {
                     let rj_art = art[j];
@@ -194,6 +211,39 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         });
 }
 
+/// A velocity gradient (rr, rz, zr, zz) as a mirror ghost across the axis has it (`sign` −1):
+/// `∂v_r/∂z` and `∂v_z/∂r` change sign.
+#[inline]
+pub(crate) fn mirrored(l: [f32; 4], sign: f32) -> [f32; 4] {
+    [l[0], sign * l[1], sign * l[2], l[3]]
+}
+
+/// The approach `vx = (v_i − v_j)·x` (< 0) of a pair at separation `x = x_i − x_j` that is left
+/// at the pair's midpoint once each end's velocity is carried there along its own gradient:
+/// `vx − ½ φ (q_i + q_j)` with `q = x·(L x)` each end's slope along the pair and φ van Leer's
+/// limiter of their ratio, `4r/(1 + r)²` (0 where the slopes disagree in sign: an extremum
+/// keeps the raw jump). Frontiere, Raskin & Owen (2017); docs/physics.md §3. Never more
+/// negative than `vx`, and 0 (no viscosity) where the reconstruction leaves no approach: a
+/// linear field's pairs read none, a jump between uniform states all of it.
+#[inline]
+pub(crate) fn reconstructed_jump(vx: f32, x: [f32; 2], l_i: [f32; 4], l_j: [f32; 4]) -> f32 {
+    let slope =
+        |l: [f32; 4]| x[0] * (l[0] * x[0] + l[1] * x[1]) + x[1] * (l[2] * x[0] + l[3] * x[1]);
+    let (qi, qj) = (slope(l_i), slope(l_j));
+    let ratio = if qj != 0.0 { qi / qj } else { 0.0 };
+    let phi = if ratio > 0.0 {
+        (4.0 * ratio / ((1.0 + ratio) * (1.0 + ratio))).min(1.0)
+    } else {
+        0.0
+    };
+    let left = vx - 0.5 * phi * (qi + qj);
+    if left < 0.0 {
+        left.max(vx)
+    } else {
+        0.0
+    }
+}
+
 /// Gray–Monaghan (2001) artificial stress over ρ² in (rr, zz, rz): R = −ε σ'/ρ² on each
 /// tensile principal stress σ' of the r–z plane, rotated back; zero for compression.
 fn artificial_stress(eps: f32, srr: f32, szz: f32, srz: f32, rho: f32) -> [f32; 3] {
@@ -209,4 +259,40 @@ fn artificial_stress(eps: f32, srr: f32, szz: f32, srz: f32, rho: f32) -> [f32; 
         sn * sn * r1 + cs * cs * r2,
         cs * sn * (r1 - r2),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `reconstructed_jump` on a pair at separation x: a linear field's approach is wholly
+    /// carried by the slopes; flat ends keep the whole jump, as do ends sloping opposite ways
+    /// (an extremum); unequal slopes of one sign keep part; the result lies in [vx, 0].
+    #[test]
+    fn reconstructed_jump_limits() {
+        let x = [0.6e-3f32, -1.1e-3];
+        let l = [-2.0e3f32, 0.5e3, 0.3e3, -4.0e3];
+        let v = [l[0] * x[0] + l[1] * x[1], l[2] * x[0] + l[3] * x[1]];
+        let vx = v[0] * x[0] + v[1] * x[1];
+        assert!(vx < 0.0);
+        assert_eq!(reconstructed_jump(vx, x, l, l), 0.0);
+        assert_eq!(reconstructed_jump(vx, x, [0.0; 4], [0.0; 4]), vx);
+        let negated = l.map(|a| -a);
+        assert_eq!(reconstructed_jump(vx, x, l, negated), vx);
+        let half = l.map(|a| 0.5 * a);
+        let part = reconstructed_jump(2.0 * vx, x, l, half);
+        // r = 2: φ = 8/9, so the jump left is 2vx − (8/9)(3/4)vx = (4/3)vx.
+        assert!((part / vx - 4.0 / 3.0).abs() < 1e-5, "{}", part / vx);
+        for scale in [0.1f32, 1.0, 3.0, 30.0] {
+            let j = reconstructed_jump(scale * vx, x, l, half);
+            assert!(j >= scale * vx && j <= 0.0, "{scale}: {j}");
+        }
+    }
+
+    /// A mirror ghost's gradient: the shears change sign, the normal rates do not.
+    #[test]
+    fn mirrored_gradient_flips_the_shears() {
+        assert_eq!(mirrored([1.0, 2.0, 3.0, 4.0], -1.0), [1.0, -2.0, -3.0, 4.0]);
+        assert_eq!(mirrored([1.0, 2.0, 3.0, 4.0], 1.0), [1.0, 2.0, 3.0, 4.0]);
+    }
 }

@@ -20,6 +20,11 @@
 //! and the hoop rate are taken from each particle's velocity moved by the kernel-weighted mean
 //! of its neighbours' departures from the linear field that a first L fits: a linear field
 //! passes unchanged, particle-scale scatter is averaged out (docs/physics.md §3).
+//!
+//! With the reconstructed viscosity (`target.viscosity_jump = "reconstructed"`) it also writes
+//! each particle's corrected gradient of its own velocity, `l_visc`, whose slopes
+//! `sph_forces` reconstructs each pair's velocities with: L itself unless L is the conjugate
+//! gradient, then a second, corrected gather.
 
 use rayon::prelude::*;
 
@@ -67,6 +72,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         hoop_weight,
         sound,
         visc_switch,
+        l_visc,
         ..
     } = particles;
     m_tilde
@@ -116,6 +122,22 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 *f = balsara(div, l[1] - l[2], sound[i], h);
             }
         });
+    if params.reconstruct_viscosity {
+        // The filter is refused with the reconstruction (scene::resolve), so L is of the
+        // particles' own velocities.
+        let corrected = Field {
+            conjugate: false,
+            ..field
+        };
+        let (l_rr, l_rz, l_zr, l_zz) = (&*l_rr, &*l_rz, &*l_zr, &*l_zz);
+        l_visc.par_iter_mut().enumerate().for_each(|(i, out)| {
+            *out = if params.conjugate_gradient {
+                corrected.gradient(i, vr, vz).0
+            } else {
+                [l_rr[i], l_rz[i], l_zr[i], l_zz[i]]
+            };
+        });
+    }
 }
 
 /// What a gather over the particles reads besides the field gathered.

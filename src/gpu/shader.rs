@@ -114,8 +114,8 @@ impl Program {
     /// compiled out).
     pub fn overrides(self) -> &'static [&'static str] {
         match self {
-            Program::SphRates => &["BALSARA", "CONJUGATE"],
-            Program::SphForces => &["ART_STRESS", "BALSARA"],
+            Program::SphRates => &["BALSARA", "CONJUGATE", "RECONSTRUCT"],
+            Program::SphForces => &["ART_STRESS", "BALSARA", "RECONSTRUCT"],
             Program::Concrete => &["CONJUGATE", "ART_STRESS"],
             Program::FemStress => &["DAMAGE"],
             _ => &[],

@@ -5,6 +5,7 @@ use super::shader::Program;
 use super::state::GpuParticles;
 use super::timestep::DtSlots;
 use super::{Gpu, GpuError, Kernel};
+use crate::state::SphParams;
 
 /// Particle accelerations: `forces` gathers over the grid's neighbours and axis ghosts what
 /// `concrete` packed (`ConcretePass::pairs`, and art_stress when the artificial stress is on)
@@ -27,12 +28,18 @@ impl SphForcesPass {
         sph_uniform: &wgpu::Buffer,
         clock: &wgpu::Buffer,
         slots: &DtSlots,
-        art_stress: bool,
-        balsara: bool,
+        params: &SphParams,
     ) -> Result<SphForcesPass, GpuError> {
         let constants = [
-            ("ART_STRESS", f64::from(u8::from(art_stress))),
-            ("BALSARA", f64::from(u8::from(balsara))),
+            (
+                "ART_STRESS",
+                f64::from(u8::from(params.art_stress_eps > 0.0)),
+            ),
+            ("BALSARA", f64::from(u8::from(params.balsara))),
+            (
+                "RECONSTRUCT",
+                f64::from(u8::from(params.reconstruct_viscosity)),
+            ),
         ];
         let forces = gpu.kernel(Program::SphForces, "forces", &constants)?;
         let p = particles;
@@ -50,6 +57,7 @@ impl SphForcesPass {
             ("mu_visc", &p.mu_visc),
             ("de_work", &p.de_work),
             ("clock", clock),
+            ("l_visc", &p.l_visc),
         ];
         let buffers = [&grid.walk_bindings(&grid.kin)[..], &own].concat();
         let bind = |slot: u32| {
@@ -121,18 +129,8 @@ mod tests {
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, sph.h, lists);
         let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(sim.dt, false));
         let slots = crate::gpu::timestep::DtSlots::new(&gpu);
-        let pass = SphForcesPass::new(
-            &gpu,
-            &gp,
-            &pairs,
-            &grid,
-            &uniform,
-            &clock,
-            &slots,
-            art_on,
-            sph.balsara,
-        )
-        .unwrap();
+        let pass =
+            SphForcesPass::new(&gpu, &gp, &pairs, &grid, &uniform, &clock, &slots, &sph).unwrap();
         run_once(&gpu, |p| pass.record(p, 1)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -199,5 +197,26 @@ mod tests {
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn sph_forces_with_balsara_switch_match_cpu() {
         compare(&["target.viscosity_switch=\"balsara\"".into()], true);
+    }
+
+    /// With the reconstructed viscosity, which must move the CPU's heating on the smoke state,
+    /// or the comparison would not test it.
+    #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+    fn sph_forces_with_reconstructed_viscosity_match_cpu() {
+        let set = ["target.viscosity_jump=\"reconstructed\"".to_string()];
+        let sim = smoke(SMOKE_STEPS, &set);
+        let sph = sim.sph.expect("smoke has a target");
+        let raw = SphParams {
+            reconstruct_viscosity: false,
+            ..sph
+        };
+        let (mut with, mut without) = (sim.particles.clone(), sim.particles.clone());
+        crate::cpu::sph_forces::run(&mut with, &sim.grid, &sph);
+        crate::cpu::sph_forces::run(&mut without, &sim.grid, &raw);
+        let change = field_error(&with.de_visc, &without.de_visc);
+        eprintln!("reconstructed: de_visc moves by {change:e} of its scale");
+        assert!(change > 1.0e-3, "the reconstruction changes nothing here");
+        compare(&set, true);
     }
 }

@@ -9,7 +9,8 @@ use crate::state::SphParams;
 
 /// Velocity gradients and density rates: `gradient` gathers over the grid's neighbours and axis
 /// ghosts (with what the neighbours pass packed of them this step) and writes l_rr, l_rz,
-/// l_zr, l_zz, drho and hoop_weight, and visc_switch when the Balsara switch is on. With the velocity filter,
+/// l_zr, l_zz, drho and hoop_weight, visc_switch when the Balsara switch is on and l_visc with
+/// the reconstructed viscosity. With the velocity filter,
 /// `gradient` runs twice: first on the particles' velocities, then, after `sph_filter` has
 /// written the filtered velocities in kin's layout, on those.
 pub struct SphRatesPass {
@@ -36,6 +37,10 @@ impl SphRatesPass {
         let switch = [
             ("BALSARA", f64::from(u8::from(params.balsara))),
             ("CONJUGATE", f64::from(u8::from(params.conjugate_gradient))),
+            (
+                "RECONSTRUCT",
+                f64::from(u8::from(params.reconstruct_viscosity)),
+            ),
         ];
         let gradient = gpu.kernel(Program::SphRates, "gradient", &switch)?;
         let p = particles;
@@ -52,6 +57,7 @@ impl SphRatesPass {
                 ("drho", &p.drho),
                 ("visc_switch", &p.visc_switch),
                 ("hoop_weight", &p.hoop_weight),
+                ("l_visc", &p.l_visc),
             ];
             gradient.bind(gpu, &[&grid.walk_bindings(kin)[..], &own].concat())
         };
@@ -118,6 +124,9 @@ mod tests {
         if sph.balsara {
             start.visc_switch.fill(f32::NAN);
         }
+        if sph.reconstruct_viscosity {
+            start.l_visc.fill([f32::NAN; 4]);
+        }
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, sph.h, lists);
@@ -145,6 +154,16 @@ mod tests {
             assert!(partial.count() > 0, "no particle with a partial switch");
         } else {
             assert!(back.visc_switch.iter().all(|&f| f == 1.0));
+        }
+        if sph.reconstruct_viscosity {
+            for k in 0..4 {
+                let column = |p: &crate::state::Particles| -> Vec<f32> {
+                    p.l_visc.iter().map(|l| l[k]).collect()
+                };
+                let e = field_error(&column(&back), &column(&cpu));
+                eprintln!("sph_rates l_visc[{k}]: relative error {e:e}");
+                assert!(e <= 1.0e-5, "l_visc[{k}]: relative error {e:e}");
+            }
         }
     }
 
@@ -180,6 +199,19 @@ mod tests {
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn sph_rates_with_balsara_switch_match_cpu() {
         compare(&["target.viscosity_switch=\"balsara\"".into()], true);
+    }
+
+    /// With the reconstructed viscosity, l_visc: a second, corrected gather beside the
+    /// conjugate gradient (the default), L itself beside the corrected one.
+    #[test]
+    #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+    fn sph_rates_with_reconstructed_viscosity_match_cpu() {
+        let jump = "target.viscosity_jump=\"reconstructed\"".to_string();
+        compare(std::slice::from_ref(&jump), true);
+        compare(
+            &[jump, "target.velocity_gradient=\"corrected\"".into()],
+            false,
+        );
     }
 
     /// With the option `set` (scene overrides), on the lists and on the grid; the option must

@@ -55,7 +55,8 @@ mirror!(GpuParticles, Particles, len = r, [
     strain_energy: f32,
     p: f32, s_rr: f32, s_zz: f32, s_rz: f32, s_tt: f32, damage: f32, mu_max: f32, eps_p: f32,
     sound: f32, l_rr: f32, l_rz: f32, l_zr: f32, l_zz: f32, drho: f32, de_visc: f32, de_work: f32,
-    mu_visc: f32, visc_switch: f32, m_tilde: f32, area: f32, hoop_weight: f32, stress_rho2: [f32; 3], art_stress: [f32; 3],
+    mu_visc: f32, visc_switch: f32, m_tilde: f32, area: f32, hoop_weight: f32,
+    l_visc: [f32; 4], stress_rho2: [f32; 3], art_stress: [f32; 3],
     fixed: u32,
 ]);
 

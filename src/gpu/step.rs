@@ -272,8 +272,7 @@ impl GpuStep {
                     &sph_uniform,
                     &clock,
                     &slots,
-                    params.art_stress_eps > 0.0,
-                    params.balsara,
+                    params,
                 )?;
                 let contact = if contact {
                     Some(ContactPass::new(

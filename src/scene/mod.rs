@@ -180,6 +180,8 @@ pub struct TargetSpec {
     pub viscosity_beta: f64,
     /// What scales the viscosity down where the flow shears rather than compresses.
     pub viscosity_switch: ViscositySwitch,
+    /// Which velocity jump of a pair the viscosity reads.
+    pub viscosity_jump: ViscosityJump,
     /// Which velocity the concrete's strain rate is taken from.
     pub velocity_filter: VelocityFilter,
     /// Which SPH gradient of it.
@@ -222,6 +224,27 @@ impl ViscositySwitch {
         match self {
             ViscositySwitch::None => "none",
             ViscositySwitch::Balsara => "balsara",
+        }
+    }
+}
+
+/// `target.viscosity_jump`: the velocity jump of a pair that its Monaghan–Gingold Π reads
+/// (docs/physics.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViscosityJump {
+    /// `(v_i − v_j)·(x_i − x_j)`: every approaching pair, a smooth compression as a shock.
+    Raw,
+    /// What is left of it at the pair's midpoint after a limited linear reconstruction from
+    /// both ends (Frontiere, Raskin & Owen 2017): none in a linear velocity field, the whole
+    /// jump across a discontinuity.
+    Reconstructed,
+}
+
+impl ViscosityJump {
+    pub fn name(self) -> &'static str {
+        match self {
+            ViscosityJump::Raw => "raw",
+            ViscosityJump::Reconstructed => "reconstructed",
         }
     }
 }

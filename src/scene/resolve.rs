@@ -10,7 +10,7 @@ use super::schema::{self as k, DefaultValue, Key, Ty};
 use super::{
     approx, num, render, Backend, CavitySpec, ContactSpec, ProjectileShape, ProjectileSpec,
     RunControl, Scene, SceneError, TargetSpec, TensionModel, VelocityFilter, VelocityGradient,
-    ViscositySwitch, WallSpec,
+    ViscosityJump, ViscositySwitch, WallSpec,
 };
 use crate::materials::hjc::Hjc;
 
@@ -459,6 +459,10 @@ fn resolve_target(c: &Check, projectile: &ProjectileSpec) -> Result<TargetSpec, 
         "none" => ViscositySwitch::None,
         _ => ViscositySwitch::Balsara,
     };
+    let viscosity_jump = match c.choice(&k::VISCOSITY_JUMP)? {
+        "raw" => ViscosityJump::Raw,
+        _ => ViscosityJump::Reconstructed,
+    };
     let velocity_filter = match c.choice(&k::VELOCITY_FILTER)? {
         "none" => VelocityFilter::None,
         _ => VelocityFilter::Linear,
@@ -480,6 +484,15 @@ fn resolve_target(c: &Check, projectile: &ProjectileSpec) -> Result<TargetSpec, 
             "the conjugate gradient (the default) takes the particles' own velocities: \
              set target.velocity_filter = \"none\", or target.velocity_gradient = \
              \"corrected\" to filter",
+        ));
+    }
+    // The reconstruction's slopes are those of the particles' own velocities, which the
+    // viscosity's jump is taken between; the filter's gradient is of other velocities.
+    if viscosity_jump == ViscosityJump::Reconstructed && velocity_filter == VelocityFilter::Linear {
+        return Err(c.conflict(
+            &[k::VISCOSITY_JUMP.path, k::VELOCITY_FILTER.path],
+            "the reconstructed jump takes the particles' own velocities: set \
+             target.velocity_filter = \"none\", or target.viscosity_jump = \"raw\" to filter",
         ));
     }
     let lead_hole_depth = c.num(&k::LEAD_HOLE_DEPTH)?;
@@ -531,6 +544,7 @@ fn resolve_target(c: &Check, projectile: &ProjectileSpec) -> Result<TargetSpec, 
         viscosity_alpha,
         viscosity_beta,
         viscosity_switch,
+        viscosity_jump,
         velocity_filter,
         velocity_gradient,
         lead_hole_depth,

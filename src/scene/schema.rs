@@ -623,6 +623,14 @@ schema! {
         default: DefaultValue::Text("none"),
         help: "What scales the viscosity down where the flow shears rather than compresses",
         show: |s| target(s, |t| Text(t.viscosity_switch.name().into())) }
+    VISCOSITY_JUMP = "target.viscosity_jump" {
+        ty: Ty::Choice { names: &["raw", "reconstructed"], quoted: true },
+        default: DefaultValue::Text("raw"),
+        help: "Which velocity jump of a pair the viscosity reads: \"raw\" (the pair's own) or \
+               \"reconstructed\" (what a limited linear reconstruction leaves at the pair's \
+               midpoint: none in a smooth compression); \"reconstructed\" needs \
+               velocity_filter = \"none\"",
+        show: |s| target(s, |t| Text(t.viscosity_jump.name().into())) }
     VELOCITY_FILTER = "target.velocity_filter" {
         ty: Ty::Choice { names: &["none", "linear"], quoted: true },
         default: DefaultValue::Text("none"),

@@ -45,7 +45,7 @@ use crate::state::{Elements, Nodes, Particles};
 
 /// The format's version: raised whenever the payload changes, so that an older file is
 /// refused by name rather than misread.
-pub const VERSION: u32 = 4;
+pub const VERSION: u32 = 5;
 
 const MAGIC: [u8; 8] = *b"PENETRST";
 

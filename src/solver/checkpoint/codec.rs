@@ -315,6 +315,7 @@ arrays!(Particles {
     m_tilde,
     area,
     hoop_weight,
+    l_visc,
     stress_rho2,
     art_stress,
     fixed,
