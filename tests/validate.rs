@@ -317,6 +317,76 @@ fn quick_only(backend: &str, sections: &str, out: &Path) -> Output {
     ])
 }
 
+/// `--set` changes the parameter set of every run whose scene has the key's table: the
+/// Forrestal shots run with it (their resolved scenes say so), the Taylor bars, which have no
+/// target, without it; the report, its summary and each section's command say so. A value the
+/// scene refuses stops the validation before any run, naming the key.
+#[test]
+#[ignore = "full tier: long run (bash scripts/test)"]
+fn set_changes_every_run_with_the_table() {
+    let out = scratch("validate-set");
+    let jump = "target.viscosity_jump=\"reconstructed\"";
+    let mut args = vec![
+        "validate",
+        "--quick",
+        "--backend",
+        "cpu",
+        "--only",
+        "taylor,forrestal",
+    ];
+    let (out_s, data) = (out.to_str().unwrap().to_string(), data());
+    args.extend([
+        "--out",
+        &out_s,
+        "--data",
+        data.to_str().unwrap(),
+        "--set",
+        jump,
+    ]);
+    let o = penetrate(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let scenes = |section: &str| -> Vec<String> {
+        let runs = out.join(section).join("runs");
+        std::fs::read_dir(&runs)
+            .unwrap()
+            .map(|e| std::fs::read_to_string(e.unwrap().path().join("scene.toml")).unwrap())
+            .collect()
+    };
+    let (forrestal, taylor) = (scenes("forrestal"), scenes("taylor"));
+    assert_eq!((forrestal.len(), taylor.len()), (4, 9));
+    let with_jump = |s: &String| s.contains("viscosity_jump = \"reconstructed\"");
+    assert!(forrestal.iter().all(with_jump), "{}", forrestal[0]);
+    assert!(
+        taylor.iter().all(|s| !s.contains("[target]")),
+        "{}",
+        taylor[0]
+    );
+    for page in ["report.md", "summary.md"] {
+        let text = std::fs::read_to_string(out.join(page)).unwrap();
+        assert!(text.contains("Not the shipped parameter set"), "{page}");
+        assert!(text.contains(jump), "{page}");
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("jump `reconstructed`"), "{report}");
+    assert!(report.contains(&format!("--set '{jump}'")), "{report}");
+
+    args.pop();
+    args.push("target.viscosity_jump=\"sideways\"");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = penetrate(&args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("target.viscosity_jump"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        !out.join("taylor").exists(),
+        "a run was made before the refusal"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// `--backend cpu,gpu` keeps its order: the sections other than the convergence study run on
 /// the first backend listed, and the report names both. Needs a GPU adapter (lavapipe in CI):
 /// without one `validate` refuses the GPU and this test fails.

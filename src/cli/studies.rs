@@ -166,6 +166,11 @@ pub struct ValidateArgs {
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u32).range(1..=64))]
     batch: u32,
+    /// Set a scene value in every run whose scene has its table, e.g. --set
+    /// target.viscosity_jump='"reconstructed"' (repeatable; `target.` and `contact.` keys in
+    /// the runs with a target): validates a changed parameter set whole. The report says so.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
 }
 
 /// Times the step at each size and prints the table: 0, or 1 where a size could not be run.
@@ -475,6 +480,7 @@ pub fn validate(args: ValidateArgs) -> ExitCode {
         resume,
         resume_build,
         batch,
+        set,
     } = args;
     let only = match only
         .iter()
@@ -495,6 +501,7 @@ pub fn validate(args: ValidateArgs) -> ExitCode {
         resume,
         resume_builds: resume_build,
         batch: batch as usize,
+        set,
     };
     match studies::validate::run(&opts, &mut |line| eprintln!("{line}")) {
         Ok(o) => {

@@ -44,9 +44,36 @@ impl Context<'_> {
         self.opts.cases.join(file)
     }
 
-    /// A scene of the cases folder with `overrides`.
+    /// A scene of the cases folder with `overrides` and the `--set` values that apply to it.
     pub(super) fn scene(&self, file: &str, overrides: &[String]) -> Result<Scene, ValidateError> {
-        scene::load(&self.case(file), overrides).map_err(|e| ValidateError::Input(e.to_string()))
+        let overrides = self.with_set(file, overrides.to_vec())?;
+        scene::load(&self.case(file), &overrides).map_err(|e| ValidateError::Input(e.to_string()))
+    }
+
+    /// `overrides` and then the `--set` values that apply to the scene `file` with them: a
+    /// `target.` or `contact.` key only where the scene has a target (the Taylor bars have
+    /// none).
+    fn with_set(
+        &self,
+        file: &str,
+        mut overrides: Vec<String>,
+    ) -> Result<Vec<String>, ValidateError> {
+        if self.opts.set.is_empty() {
+            return Ok(overrides);
+        }
+        let input = |e: scene::SceneError| ValidateError::Input(format!("{file}: {e}"));
+        let has_target = scene::load(&self.case(file), &overrides)
+            .map_err(input)?
+            .target
+            .is_some();
+        overrides.extend(
+            self.opts
+                .set
+                .iter()
+                .filter(|s| has_target || !(s.starts_with("target.") || s.starts_with("contact.")))
+                .cloned(),
+        );
+        Ok(overrides)
     }
 
     pub(super) fn dir(&self, section: Section) -> PathBuf {
@@ -66,14 +93,16 @@ impl Context<'_> {
         let runs = self.dir(section).join("runs");
         let specs = asks
             .into_iter()
-            .map(|a| RunSpec {
-                dir: runs.join(format!("{}-{}", a.label, a.backend.name())),
-                label: a.label,
-                case: self.case(&a.case),
-                overrides: a.overrides,
-                backend: a.backend,
+            .map(|a| {
+                Ok(RunSpec {
+                    dir: runs.join(format!("{}-{}", a.label, a.backend.name())),
+                    label: a.label,
+                    overrides: self.with_set(&a.case, a.overrides)?,
+                    case: self.case(&a.case),
+                    backend: a.backend,
+                })
             })
-            .collect();
+            .collect::<Result<Vec<_>, ValidateError>>()?;
         let planned = sweep::plan(specs)
             .map_err(|e| ValidateError::Input(format!("{}: {e}", section.name())))?;
         let mut records: Vec<Option<RunRecord>> = vec![None; planned.len()];

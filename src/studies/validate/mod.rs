@@ -183,6 +183,10 @@ pub struct Options {
     pub resume_builds: Vec<String>,
     /// Runs on the GPU stepped this many at a time together (`sweep --batch`).
     pub batch: usize,
+    /// Scene values (`KEY=VALUE`, as `run --set`) set in every run whose scene has the key's
+    /// table (`target.` and `contact.` keys: the runs with a target): a changed parameter set
+    /// validated whole.
+    pub set: Vec<String>,
 }
 
 /// How a validation ended (its accuracy is in the report, not here).
@@ -412,6 +416,12 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
         return Err(ValidateError::Input(
             "--resume-build takes earlier runs: it needs --resume".into(),
         ));
+    }
+    if !opts.set.is_empty() {
+        // Every value must suit a penetration scene (which has every table) before any run.
+        let probe = opts.cases.join("forrestal1994-277.toml");
+        crate::scene::load(&probe, &opts.set)
+            .map_err(|e| ValidateError::Input(format!("--set: {e}")))?;
     }
     let mut gpu_adapter = None;
     for &b in &opts.backends {

@@ -414,8 +414,7 @@ fn depth_section(
         .iter()
         .map(|s| format!("`cases/{s}-<speed>.toml`"))
         .collect();
-    let mut md =
-        format!(
+    let mut md = format!(
         "Each shot's scene ({}) as shipped{}, on {}. Parameter set: projectile material preset \
          `{}`, λ = {}, concrete from the f_c rule, {}; {}. {assumed}Forrestal's equation \
          (physics.md §8) takes the measured mass and f_c, the scene's shank radius, CRH and \
@@ -423,18 +422,25 @@ fn depth_section(
          simulation {:.1} % over {} shot(s) that completed, of the equation {:.1} %. Raw data: \
          {csv}.\n\n",
         files.join(", "),
-        if ctx.settings.quick { " with the quick overrides" } else { "" },
+        if ctx.settings.quick {
+            " with the quick overrides"
+        } else {
+            ""
+        },
         ctx.primary().name(),
-        scenes.first().map_or("", |s| s.projectile.material.preset.as_str()),
-        scenes.first().map_or(0.0, |s| s.contact.lambda),
         scenes
             .first()
-            .and_then(|s| target_options(s))
-            .map_or(String::new(), |(ratio, alpha, beta, stress, switch, filter, gradient)| format!(
+            .map_or("", |s| s.projectile.material.preset.as_str()),
+        scenes.first().map_or(0.0, |s| s.contact.lambda),
+        scenes.first().and_then(|s| target_options(s)).map_or(
+            String::new(),
+            |(ratio, alpha, beta, stress, switch, jump, filter, gradient)| format!(
                 "SPH with h = {ratio} Δ, viscosity α = {alpha}, β = {beta}, switch `{switch}`, \
-                 velocity filter `{filter}`, velocity gradient `{gradient}`, artificial stress {}",
+                 jump `{jump}`, velocity filter `{filter}`, velocity gradient `{gradient}`, \
+                 artificial stress {}",
                 if stress { "on" } else { "off" }
-            )),
+            )
+        ),
         if one_set {
             "the same projectile material, contact and SPH options in every shot"
         } else {
@@ -811,7 +817,7 @@ fn one_parameter_set(scenes: &[&Scene]) -> bool {
 }
 
 /// The target's numerical options, which one parameter set keeps alike in every shot: h/Δ,
-/// α, β, artificial stress, the viscosity switch, the velocity filter and gradient. The
+/// α, β, artificial stress, the viscosity switch and jump, the velocity filter and gradient. The
 /// concrete is not compared: its constants differ between shots by design, through each shot's
 /// f_c and the rule (explicit `[target.concrete]` overrides are therefore not checked here
 /// either).
@@ -820,6 +826,7 @@ type TargetOptions = (
     f64,
     f64,
     bool,
+    &'static str,
     &'static str,
     &'static str,
     &'static str,
@@ -833,6 +840,7 @@ fn target_options(scene: &Scene) -> Option<TargetOptions> {
             t.viscosity_beta,
             t.artificial_stress,
             t.viscosity_switch.name(),
+            t.viscosity_jump.name(),
             t.velocity_filter.name(),
             t.velocity_gradient.name(),
         )
@@ -855,6 +863,7 @@ mod tests {
         for change in [
             "target.velocity_gradient=\"corrected\"",
             "target.viscosity_switch=\"none\"",
+            "target.viscosity_jump=\"reconstructed\"",
             "target.viscosity_alpha=0.5",
             "target.smoothing_ratio=2.0",
             "contact.lambda=0",

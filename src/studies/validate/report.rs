@@ -69,6 +69,7 @@ pub(super) fn render(
         backends.join(", ")
     );
     md += &format!("- Data: `{}`\n", opts.data.display());
+    md += &set_line(opts);
     md += &format!(
         "- Runs: {} ({} of them resumed from earlier output in this folder; {} more asked again \
          and reused), {} did not complete\n",
@@ -130,6 +131,7 @@ pub(super) fn render_summary(ctx: &Context, parts: &[(Section, SectionOut)]) -> 
     md += "Every check of `penetrate validate`, as its last run wrote them; the setup, data, \
            results and plots of each section are in [report.md](report.md).\n\n";
     md += &builds_line(ctx);
+    md += &set_line(ctx.opts);
     md += "\n";
     let rows: Vec<Vec<String>> = parts
         .iter()
@@ -159,11 +161,25 @@ pub(super) fn render_summary(ctx: &Context, parts: &[(Section, SectionOut)]) -> 
 }
 
 /// The command that makes a section's part again.
+/// The `--set` values, where any were given: the parameter set is not the shipped one.
+fn set_line(opts: &super::Options) -> String {
+    if opts.set.is_empty() {
+        return String::new();
+    }
+    let values: Vec<String> = opts.set.iter().map(|s| format!("`{s}`")).collect();
+    format!(
+        "- **Not the shipped parameter set**: every run whose scene has the key's table was \
+         made with {} (`--set`; `target.` and `contact.` keys in the runs with a target)\n",
+        values.join(", ")
+    )
+}
+
 fn command(ctx: &Context, s: Section) -> String {
     let o = ctx.opts;
     let backends: Vec<&str> = o.backends.iter().map(|b| b.name()).collect();
+    let set: String = o.set.iter().map(|s| format!(" --set '{s}'")).collect();
     format!(
-        "penetrate validate --only {} --backend {} --data {}{}",
+        "penetrate validate --only {} --backend {} --data {}{}{set}",
         s.name(),
         backends.join(","),
         o.data.display(),
