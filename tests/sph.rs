@@ -481,6 +481,16 @@ fn slug_impact(s: TargetSpec) {
     assert!(drift.abs() < 1e-5, "axial momentum drift {drift:e}");
 }
 
+/// Whether particle i of the target `spec` lies two kernel supports inside its free faces and
+/// off the axis, where the corrected gradient of a linear field is exact.
+fn interior(spec: &TargetSpec, support: f64, p: &Particles, i: usize) -> bool {
+    let (r, z) = (p.r[i] as f64, p.z[i] as f64);
+    r > 2.0 * support
+        && r + 2.0 * support < spec.radius
+        && z + 2.0 * support < 0.0
+        && z - 2.0 * support > -spec.thickness
+}
+
 /// The Balsara switch (`target.viscosity_switch = "balsara"`) on a free target at rest in
 /// stress, with a prescribed velocity field, at the particles two supports inside the free faces
 /// and off the axis (where the corrected gradient of a linear field is exact):
@@ -502,13 +512,7 @@ fn balsara_switch_removes_the_viscosity_from_shear_only() {
     let mut grid = neighbours::CellGrid::default();
     neighbours::run(&mut grid, &p0.r, &p0.z, &params_off.kernel);
     let support = integrate::support(&params_off) as f64;
-    let inner = |p: &Particles, i: usize| {
-        let (r, z) = (p.r[i] as f64, p.z[i] as f64);
-        r > 2.0 * support
-            && r + 2.0 * support < plain.radius
-            && z + 2.0 * support < 0.0
-            && z - 2.0 * support > -plain.thickness
-    };
+    let inner = |p: &Particles, i: usize| interior(&plain, support, p, i);
     let forces = |v: &dyn Fn(f32, f32) -> (f32, f32), params: &SphParams| {
         let mut p = p0.clone();
         for i in 0..p.len() {
@@ -596,13 +600,7 @@ fn reconstruction_takes_the_viscosity_out_of_a_smooth_compression_only() {
     let mut grid = neighbours::CellGrid::default();
     neighbours::run(&mut grid, &p0.r, &p0.z, &params_raw.kernel);
     let support = integrate::support(&params_raw) as f64;
-    let inner = |p: &Particles, i: usize| {
-        let (r, z) = (p.r[i] as f64, p.z[i] as f64);
-        r > 2.0 * support
-            && r + 2.0 * support < raw.radius
-            && z + 2.0 * support < 0.0
-            && z - 2.0 * support > -raw.thickness
-    };
+    let inner = |p: &Particles, i: usize| interior(&raw, support, p, i);
     let heat = |v: &dyn Fn(f32, f32) -> (f32, f32), params: &SphParams| -> f64 {
         let mut p = p0.clone();
         for i in 0..p.len() {
