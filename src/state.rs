@@ -6,7 +6,7 @@ use crate::materials::hjc::Hjc;
 use crate::materials::johnson_cook::JcDamage;
 use crate::materials::steel_eos::PolyEos;
 use crate::mesh::{MasterSegment, ProjectileMesh, TargetLattice};
-use crate::scene::{SteelMaterial, TargetSpec};
+use crate::scene::{SteelMaterial, TargetSpec, ViscosityJump};
 
 /// SPH particles of the concrete target. Masses are whole-ring masses.
 #[derive(Clone, Debug, Default)]
@@ -63,8 +63,8 @@ pub struct Particles {
     /// with the conjugate gradient the weight on the hoop rate `v_r/r` as well.
     pub hoop_weight: Vec<f32>,
     /// The corrected velocity gradient (rr, rz, zr, zz) whose slopes the viscosity's
-    /// reconstruction takes, from `sph_rates`; zero unless `target.viscosity_jump =
-    /// "reconstructed"`.
+    /// reconstruction takes, from `sph_rates`; empty unless `target.viscosity_jump =
+    /// "reconstructed"` (`from_lattice`).
     pub l_visc: Vec<[f32; 4]>,
     /// Total stress over ρ² (rr, zz, rz) and the Gray–Monaghan artificial stress, from the
     /// start of `sph_forces`.
@@ -92,7 +92,13 @@ impl Particles {
                 )
             })
             .collect();
-        Particles::at_rest(lattice, &spec.concrete, fixed)
+        let mut p = Particles::at_rest(lattice, &spec.concrete, fixed);
+        // Only the reconstructed viscosity reads the corrected gradients: keep none otherwise
+        // (16 bytes a particle, on the GPU, in every full read-back and in checkpoints).
+        if spec.viscosity_jump != ViscosityJump::Reconstructed {
+            p.l_visc = Vec::new();
+        }
+        p
     }
 
     /// Particles of `concrete` at rest, at its reference density, at the lattice's places;
@@ -463,6 +469,21 @@ impl Projectile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The corrected gradients are kept exactly where the viscosity reads them.
+    #[test]
+    fn corrected_gradients_only_with_the_reconstructed_viscosity() {
+        for (jump, kept) in [("raw", false), ("reconstructed", true)] {
+            let set = format!("target.viscosity_jump=\"{jump}\"");
+            let scene = crate::scene::tests::smoke(&[&set]).unwrap();
+            let t = scene.target.as_ref().unwrap();
+            let lattice =
+                crate::mesh::target::lattice(t.radius, t.thickness, t.spacing, 2400.0).unwrap();
+            let p = Particles::from_lattice(&lattice, t);
+            assert!(!p.is_empty());
+            assert_eq!(p.l_visc.len(), if kept { p.len() } else { 0 }, "{jump}");
+        }
+    }
 
     /// Three cells of four triangles round a centre: a checkerboard of ±1 GPa about 2 GPa, a
     /// uniform 5 GPa, and a ±4 GPa one with a failed element (left out); then four elements

@@ -130,6 +130,9 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             ..field
         };
         let (l_rr, l_rz, l_zr, l_zz) = (&*l_rr, &*l_rz, &*l_zr, &*l_zz);
+        // Kept only where a scene asks for the reconstruction (`Particles::from_lattice`):
+        // made here for particles that come without it.
+        l_visc.resize(l_rr.len(), [0.0; 4]);
         l_visc.par_iter_mut().enumerate().for_each(|(i, out)| {
             *out = if params.conjugate_gradient {
                 corrected.gradient(i, vr, vz).0

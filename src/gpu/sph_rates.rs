@@ -156,6 +156,7 @@ mod tests {
             assert!(back.visc_switch.iter().all(|&f| f == 1.0));
         }
         if sph.reconstruct_viscosity {
+            assert_eq!(cpu.l_visc.len(), cpu.len());
             for k in 0..4 {
                 let column = |p: &crate::state::Particles| -> Vec<f32> {
                     p.l_visc.iter().map(|l| l[k]).collect()
