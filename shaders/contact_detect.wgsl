@@ -1,10 +1,11 @@
 // `contact_detect` (CPU twin: src/cpu/contact_detect.rs): each preselected slave particle inside
 // the projectile's bounding box (the integration's, which also empties the hit list) is tested
 // against the master triangles; a slave inside one is a hit (the nearest segment AB wins) and
-// is appended to the hit list with its kinematics for the read-back. The append order varies
-// between runs; the host sorts the hits by slave index before correcting, so the result does
-// not. After the host's correction `apply` writes the corrected slaves back. Needs params.wgsl
-// and step.wgsl.
+// is appended to the hit list with its kinematics and its segment's two nodes' for the
+// read-back. The append order varies between runs; the host sorts the hits by slave index before
+// correcting, so the result does not. After the host's correction `apply` writes back the
+// corrected slaves and the nodes it touched, and adds the global shift to every other node.
+// Needs params.wgsl and step.wgsl.
 
 struct Master {
     element: u32,
@@ -20,18 +21,24 @@ struct Master {
 @group(0) @binding(4) var<storage, read_write> pz: array<f32>;
 @group(0) @binding(5) var<storage, read_write> pvr: array<f32>;
 @group(0) @binding(6) var<storage, read_write> pvz: array<f32>;
-@group(0) @binding(7) var<storage, read> nr: array<f32>;
-@group(0) @binding(8) var<storage, read> nz: array<f32>;
+@group(0) @binding(7) var<storage, read_write> nr: array<f32>;
+@group(0) @binding(8) var<storage, read_write> nz: array<f32>;
 // hits[0]: the count; then (slave, master) pairs.
 @group(0) @binding(9) var<storage, read_write> hits: array<atomic<u32>>;
-// Per hit: (r, z, vr, vz) of the slave, for the read-back; and, written by the host,
-// [count, then per hit (slave, r, z, vr, vz)] for `apply`.
+// Per hit, for the read-back: (r, z, vr, vz) of the slave, then of its segment's nodes A and B.
 @group(0) @binding(10) var<storage, read_write> hit_data: array<vec4<f32>>;
+// Written by the host for `apply`: [count, then per corrected slave (slave, r, z, vr, vz)].
 @group(0) @binding(11) var<storage, read> fixes: array<u32>;
 // The projectile's bounding box after this step's integration, as ordered keys (common.wgsl
 // float_key): r_max, z_min, z_max at 4 box_slot.slot (integrate.wgsl `node` folds it there).
 @group(0) @binding(12) var<storage, read> box_keys: array<u32>;
 @group(0) @binding(13) var<uniform> box_slot: DtSlot;
+@group(0) @binding(14) var<storage, read_write> nvr: array<f32>;
+@group(0) @binding(15) var<storage, read_write> nvz: array<f32>;
+// Written by the host for `apply`: [count, shift, shift·Δt (f32 bits), then per touched node in
+// ascending order (node, r, z, vr, vz)]: the touched nodes' corrected values, the global shift
+// already in them (contact.rs).
+@group(0) @binding(16) var<storage, read> node_fixes: array<u32>;
 
 // Twice the signed area of (a, b, p): positive when p is left of a -> b.
 fn orient(a: vec2<f32>, b: vec2<f32>, p: vec2<f32>) -> f32 {
@@ -74,20 +81,47 @@ fn detect(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (slot < u.n_slaves) {
             atomicStore(&hits[1u + 2u * slot], s);
             atomicStore(&hits[2u + 2u * slot], best);
-            hit_data[slot] = vec4<f32>(p, pvr[s], pvz[s]);
+            let seg = masters[best];
+            hit_data[3u * slot] = vec4<f32>(p, pvr[s], pvz[s]);
+            hit_data[3u * slot + 1u] = vec4<f32>(nr[seg.a], nz[seg.a], nvr[seg.a], nvz[seg.a]);
+            hit_data[3u * slot + 2u] = vec4<f32>(nr[seg.b], nz[seg.b], nvr[seg.b], nvz[seg.b]);
         }
     }
 }
 
-// Per corrected slave (written by the host): its new position and velocity.
+// Thread k writes back corrected slave k, and node k: its corrected values where the host
+// touched it, else the global shift added as the host adds it (`v + s`, `z + s Δt` with s Δt
+// rounded once on the host), so that the nodes are the host's to the bit. Dispatched over the
+// larger of the two counts, once after each correction.
 @compute @workgroup_size(WG)
 fn apply(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x;
-    if (k >= fixes[0]) { return; }
-    let base = 1u + 5u * k;
-    let s = fixes[base];
-    pr[s] = bitcast<f32>(fixes[base + 1u]);
-    pz[s] = bitcast<f32>(fixes[base + 2u]);
-    pvr[s] = bitcast<f32>(fixes[base + 3u]);
-    pvz[s] = bitcast<f32>(fixes[base + 4u]);
+    if (k < fixes[0]) {
+        let base = 1u + 5u * k;
+        let s = fixes[base];
+        pr[s] = bitcast<f32>(fixes[base + 1u]);
+        pz[s] = bitcast<f32>(fixes[base + 2u]);
+        pvr[s] = bitcast<f32>(fixes[base + 3u]);
+        pvz[s] = bitcast<f32>(fixes[base + 4u]);
+    }
+    if (k >= u.n_nodes) { return; }
+    let touched = node_fixes[0];
+    for (var t = 0u; t < touched; t++) {
+        let base = 3u + 5u * t;
+        let node = node_fixes[base];
+        if (node == k) {
+            nr[k] = bitcast<f32>(node_fixes[base + 1u]);
+            nz[k] = bitcast<f32>(node_fixes[base + 2u]);
+            nvr[k] = bitcast<f32>(node_fixes[base + 3u]);
+            nvz[k] = bitcast<f32>(node_fixes[base + 4u]);
+            return;
+        }
+        if (node > k) { break; }
+    }
+    let shift = bitcast<f32>(node_fixes[1]);
+    // The host skips a zero shift, which would turn a −0 velocity into +0.
+    if (shift != 0.0) {
+        nvz[k] = nvz[k] + shift;
+        nz[k] = nz[k] + bitcast<f32>(node_fixes[2]);
+    }
 }

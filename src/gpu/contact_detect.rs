@@ -1,7 +1,8 @@
 //! `contact_detect` on the GPU (shaders/contact_detect.wgsl; CPU twin `cpu::contact_detect`): the
 //! slave-in-master-triangle test of the slaves inside the projectile's bounding box (which the
-//! integration folds, `box_keys`) with an appended hit list and the hits' slave kinematics for
-//! the read-back, and `apply`, which writes back the slaves the host corrected.
+//! integration folds, `box_keys`) with an appended hit list and, for the read-back, the
+//! kinematics of each hit's slave and of its segment's two nodes; and `apply`, which writes back
+//! the slaves and the nodes the host corrected and adds the global shift to the other nodes.
 
 use super::shader::Program;
 use super::state::{GpuNodes, GpuParticles};
@@ -30,11 +31,27 @@ pub struct ContactPass {
     binds: [wgpu::BindGroup; 2],
     /// The projectile's bounding box after the integration of each parity (integrate.wgsl).
     pub box_keys: wgpu::Buffer,
-    /// `[count, (slave, master)…]`, `(r, z, vr, vz)` per hit, and the host's fixes.
+    /// `[count, (slave, master)…]`, `(r, z, vr, vz)` of each hit's slave, node A and node B,
+    /// and the host's fixes of the slaves and of the nodes.
     pub hits: wgpu::Buffer,
     pub hit_data: wgpu::Buffer,
     pub fixes: wgpu::Buffer,
+    pub node_fixes: wgpu::Buffer,
     n_slaves: u32,
+    n_nodes: u32,
+}
+
+/// `hit_data`'s entries per hit: the slave, node A, node B.
+pub const HIT_ENTRIES: usize = 3;
+
+/// What the host's correction changed, for `apply`: the corrected slaves `(slave, [r, z, vr,
+/// vz])`, the nodes it touched with their final values (the shift included) in ascending order,
+/// and the global shift s with s·Δt as the host rounded it.
+pub struct Fixes<'a> {
+    pub slaves: &'a [(u32, [f32; 4])],
+    pub nodes: &'a [(u32, [f32; 4])],
+    pub shift: f32,
+    pub shift_dt: f32,
 }
 
 impl ContactPass {
@@ -53,8 +70,9 @@ impl ContactPass {
         let m: Vec<[u32; 4]> = masters.iter().map(|m| [m.element, m.a, m.b, m.c]).collect();
         let master_buf = gpu.buffer("masters", &m);
         let hits = gpu.zeros::<u32>("hits", 1 + 2 * n);
-        let hit_data = gpu.zeros::<[f32; 4]>("hit data", n);
+        let hit_data = gpu.zeros::<[f32; 4]>("hit data", HIT_ENTRIES * n);
         let fixes = gpu.zeros::<u32>("contact fixes", 1 + 5 * n);
+        let node_fixes = gpu.zeros::<u32>("contact node fixes", 3 + 5 * nodes.len);
         let box_keys = gpu.buffer("projectile box", &[EMPTY_BOX, EMPTY_BOX]);
         let detect = kernel("detect")?;
         let bind = |slot: u32| {
@@ -70,6 +88,9 @@ impl ContactPass {
                     ("pvz", &particles.vz),
                     ("nr", &nodes.r),
                     ("nz", &nodes.z),
+                    ("nvr", &nodes.vr),
+                    ("nvz", &nodes.vz),
+                    ("node_fixes", &node_fixes),
                     ("hits", &hits),
                     ("hit_data", &hit_data),
                     ("fixes", &fixes),
@@ -87,7 +108,9 @@ impl ContactPass {
             hits,
             hit_data,
             fixes,
+            node_fixes,
             n_slaves: n as u32,
+            n_nodes: nodes.len as u32,
         })
     }
 
@@ -98,20 +121,35 @@ impl ContactPass {
             .dispatch(pass, &self.binds[parity as usize], self.n_slaves);
     }
 
-    /// Write back the slaves in `fixes` (the host wrote it before this submission).
-    pub fn record_apply(&self, pass: &mut wgpu::ComputePass, count: u32) {
-        self.apply.dispatch(pass, &self.binds[0], count);
+    /// Write back what the host wrote with `write_fixes` before this submission: `slaves`
+    /// corrected slaves and, once after a correction (`nodes`), the nodes.
+    pub fn record_apply(&self, pass: &mut wgpu::ComputePass, slaves: u32, nodes: bool) {
+        let items = if nodes {
+            slaves.max(self.n_nodes)
+        } else {
+            slaves
+        };
+        self.apply.dispatch(pass, &self.binds[0], items);
     }
 
-    /// The host's corrected slaves: `(slave, r, z, vr, vz)` for each, as `fixes` holds them.
-    pub fn write_fixes(&self, gpu: &Gpu, fixes: &[(u32, [f32; 4])]) {
-        let mut words = Vec::with_capacity(1 + 5 * fixes.len());
-        words.push(fixes.len() as u32);
-        for (s, v) in fixes {
-            words.push(*s);
-            words.extend(v.iter().map(|x| x.to_bits()));
-        }
-        gpu.write(&self.fixes, &words);
+    /// The host's correction, as `fixes` and `node_fixes` hold it.
+    pub fn write_fixes(&self, gpu: &Gpu, f: &Fixes) {
+        let words = |mut head: Vec<u32>, entries: &[(u32, [f32; 4])]| {
+            head.reserve(5 * entries.len());
+            for (index, v) in entries {
+                head.push(*index);
+                head.extend(v.iter().map(|x| x.to_bits()));
+            }
+            head
+        };
+        debug_assert!(f.nodes.windows(2).all(|w| w[0].0 < w[1].0));
+        gpu.write(&self.fixes, &words(vec![f.slaves.len() as u32], f.slaves));
+        let head = vec![
+            f.nodes.len() as u32,
+            f.shift.to_bits(),
+            f.shift_dt.to_bits(),
+        ];
+        gpu.write(&self.node_fixes, &words(head, f.nodes));
     }
 }
 
@@ -123,7 +161,8 @@ mod tests {
     use crate::solver::Simulation;
 
     /// The GPU finds exactly the CPU's hits (as a set; the host sorts them) on a state where the
-    /// nose is inside the target, and `apply` writes back what it is given.
+    /// nose is inside the target, with the kinematics of their slaves and nodes, and `apply`
+    /// writes back what it is given and shifts the other nodes as the host does.
     #[test]
     #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
     fn detect_matches_cpu_and_apply_writes_back() {
@@ -191,16 +230,35 @@ mod tests {
             same + 1 >= want.len().max(got.len()),
             "GPU hits {got:?}\nCPU hits {want:?}"
         );
-        let data: Vec<[f32; 4]> = gpu.read(&pass.hit_data, count).unwrap();
-        for k in 0..count {
+        let data: Vec<[[f32; 4]; HIT_ENTRIES]> = gpu.read(&pass.hit_data, count).unwrap();
+        let p = &sim.particles;
+        let n = &sim.projectile.nodes;
+        let node = |i: u32| {
+            let i = i as usize;
+            [n.r[i], n.z[i], n.vr[i], n.vz[i]]
+        };
+        for (k, entries) in data.iter().enumerate() {
             let s = words[1 + 2 * k] as usize;
-            let p = &sim.particles;
-            assert_eq!(data[k], [p.r[s], p.z[s], p.vr[s], p.vz[s]]);
+            let seg = sim.projectile.masters[words[2 + 2 * k] as usize];
+            assert_eq!(entries[0], [p.r[s], p.z[s], p.vr[s], p.vz[s]]);
+            assert_eq!(entries[1], node(seg.a));
+            assert_eq!(entries[2], node(seg.b));
         }
 
+        // A correction: one slave, two nodes touched, a shift for the rest.
         let s = want[0].0;
-        pass.write_fixes(&gpu, &[(s, [0.5, -0.25, 3.0, -4.0])]);
-        run_once(&gpu, |p| pass.record_apply(p, 1)).unwrap();
+        let seg = sim.projectile.masters[want[0].1 as usize];
+        let (lo, hi) = (seg.a.min(seg.b), seg.a.max(seg.b));
+        let touched = [(lo, [1.0, 2.0, 3.0, 4.0]), (hi, [5.0, 6.0, 7.0, 8.0])];
+        let (shift, shift_dt) = (-0.75f32, 1.5e-7f32);
+        let fixes = Fixes {
+            slaves: &[(s, [0.5, -0.25, 3.0, -4.0])],
+            nodes: &touched,
+            shift,
+            shift_dt,
+        };
+        pass.write_fixes(&gpu, &fixes);
+        run_once(&gpu, |p| pass.record_apply(p, 1, true)).unwrap();
         let mut back = sim.particles.clone();
         gp.download(&gpu, &mut back).unwrap();
         let s = s as usize;
@@ -209,5 +267,38 @@ mod tests {
             [0.5, -0.25, 3.0, -4.0]
         );
         assert_eq!(back.r[s + 1], sim.particles.r[s + 1]);
+        let mut nodes = sim.projectile.nodes.clone();
+        gn.download(&gpu, &mut nodes).unwrap();
+        for i in 0..nodes.len() {
+            let got = [nodes.r[i], nodes.z[i], nodes.vr[i], nodes.vz[i]];
+            let want = match touched.iter().find(|t| t.0 as usize == i) {
+                Some(t) => t.1,
+                None => [n.r[i], n.z[i] + shift_dt, n.vr[i], n.vz[i] + shift],
+            };
+            assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "node {i}");
+        }
+
+        // No shift: the untouched nodes keep their bits (a −0 velocity included).
+        gn.write(&gpu, &sim.projectile.nodes);
+        let v0 = (0..n.len())
+            .find(|&i| i != lo as usize && i != hi as usize)
+            .unwrap();
+        gpu.write_at(&gn.vz, v0, &[-0.0f32]);
+        let fixes = Fixes {
+            shift: 0.0,
+            shift_dt: 0.0,
+            ..fixes
+        };
+        pass.write_fixes(&gpu, &fixes);
+        run_once(&gpu, |p| pass.record_apply(p, 1, true)).unwrap();
+        gn.download(&gpu, &mut nodes).unwrap();
+        assert_eq!(nodes.vz[v0].to_bits(), (-0.0f32).to_bits());
+        for i in (0..n.len()).filter(|&i| i != lo as usize && i != hi as usize && i != v0) {
+            assert_eq!(
+                [nodes.r[i], nodes.z[i], nodes.vr[i], nodes.vz[i]].map(f32::to_bits),
+                [n.r[i], n.z[i], n.vr[i], n.vz[i]].map(f32::to_bits),
+                "node {i}"
+            );
+        }
     }
 }

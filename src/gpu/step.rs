@@ -15,12 +15,14 @@
 //! (`dt_slot`), so that no pass has to empty them before the next fold.
 //!
 //! then one mapping brings back Δt_k and whether the elements set it, how far the particles have
-//! moved since the neighbour lists were built, the status words, the nodes' positions and
-//! velocities, and the hits with their slaves' kinematics, as many as the last steps' most with a
-//! margin (`HitBound`; a step with more reads them in a second round trip). The host applies the λ
+//! moved since the neighbour lists were built, the status words, every node's z and v_z (the
+//! correction's momentum and the run's stop test read them), and the hits with the kinematics of
+//! their slaves and their segments' nodes, as many as the last steps' most with a margin
+//! (`HitBound`; a step with more reads them in a second round trip). The host applies the λ
 //! correction and the global shift (physics.md §4, `contact::correct`) and writes the corrected
-//! slaves and the node values it changed for the next submission, which builds the neighbour lists
-//! again only when a particle may have moved half the lists' skin (`LIST_SKIN`). `download`
+//! slaves, the nodes it touched and the shift for the next submission, whose `apply` adds the
+//! shift to the other nodes as the host does; that submission builds the neighbour lists again
+//! only when a particle may have moved half the lists' skin (`LIST_SKIN`). `download`
 //! (`sync.rs`) runs a pending second half and copies what it reads in one submission waited for
 //! once, so that the GPU state is the CPU's after the same number of `Simulation::step` calls.
 
@@ -28,7 +30,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::batch::Batch;
-use super::contact_detect::ContactPass;
+use super::contact_detect::{ContactPass, Fixes, HIT_ENTRIES};
 use super::fem_stress::FemStressPass;
 use super::integrate::{
     Accumulators, IntegratePass, TargetBindings, STATUS_CLEAR, STATUS_INVERTED_ELEMENT,
@@ -44,7 +46,7 @@ use super::traffic::{Charge, Tally, Traffic};
 use super::ReadBatch;
 use super::{Gpu, GpuError};
 use crate::pass::Pass;
-use crate::state::{FemParams, Nodes, Particles, Projectile, SphParams};
+use crate::state::{FemParams, Particles, Projectile, SphParams};
 
 mod readback;
 mod sync;
@@ -105,11 +107,10 @@ pub struct GpuStep {
     layout: Layout,
     hit_bound: HitBound,
     n_nodes: usize,
-    /// The nodes' r, z, vr, vz as the last read-back brought them: what the GPU holds until
-    /// `correct` writes what the host changed.
-    nodes_read: [Vec<f32>; 4],
-    /// Corrected slaves written for the next submission.
+    /// Corrected slaves written for the next submission, and whether a correction of the nodes
+    /// was (`ContactPass::write_fixes`).
     pending_fixes: u32,
+    pending_nodes: bool,
     /// The second half of the last step (forces, Δt) has not been recorded yet.
     pending_forces: bool,
     /// How far a particle may move from where the neighbour lists were built before they must
@@ -352,13 +353,13 @@ impl GpuStep {
         let status_at = 16u64;
         let nodes_at = status_at + 4 * STATUS_WORDS as u64;
         // The fixed part: the clock's Δt and fem_limited words, then moved² at 8, then (after
-        // a free word) the status words.
+        // a free word) the status words, then the nodes' z and v_z.
         let layout = Layout {
             moved2: 8,
             fem_limited: 4,
             status: status_at,
             nodes: nodes_at,
-            hits: nodes_at + 16 * nn,
+            hits: nodes_at + 8 * nn,
         };
         let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("step read-back"),
@@ -390,8 +391,8 @@ impl GpuStep {
             layout,
             hit_bound: HitBound::new(hit_capacity),
             n_nodes: nn as usize,
-            nodes_read: Default::default(),
             pending_fixes: 0,
+            pending_nodes: false,
             pending_forces: false,
             list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
             since_build: f32::INFINITY,
@@ -487,7 +488,7 @@ impl GpuStep {
     fn record_forces(&self, pass: &mut wgpu::ComputePass, build: bool) {
         let sph = self.sph.as_ref();
         if let Some(c) = sph.and_then(|s| s.contact.as_ref()) {
-            c.record_apply(pass, self.pending_fixes);
+            c.record_apply(pass, self.pending_fixes, self.pending_nodes);
         }
         self.mark(pass, 1);
         // Each pass's timestamp slot is its place in PROFILED; a pass the scene lacks gets its
@@ -612,13 +613,11 @@ impl GpuStep {
         if let Some(c) = contact {
             let b = bound as u64;
             encoder.copy_buffer_to_buffer(&c.hits, 0, &self.staging, l.hits, 4 * (1 + 2 * b));
-            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, hit_data_at, 16 * b);
+            let entries = HIT_ENTRIES as u64 * b;
+            encoder.copy_buffer_to_buffer(&c.hit_data, 0, &self.staging, hit_data_at, 16 * entries);
         }
         let nn = 4 * self.n_nodes as u64;
-        for (k, b) in [&self.nodes.r, &self.nodes.z, &self.nodes.vr, &self.nodes.vz]
-            .into_iter()
-            .enumerate()
-        {
+        for (k, b) in [&self.nodes.z, &self.nodes.vz].into_iter().enumerate() {
             encoder.copy_buffer_to_buffer(b, 0, &self.staging, l.nodes + k as u64 * nn, nn);
         }
         let recorded = Instant::now();
@@ -632,6 +631,7 @@ impl GpuStep {
         self.built(build);
         self.pending_forces = true;
         self.pending_fixes = 0;
+        self.pending_nodes = false;
         // The Δt's source is the clock only before the first fold, at parity 0.
         debug_assert!(dt_source != DT_FROM_CLOCK || self.dt_slot == 0);
         self.dt_slot = 1 - self.dt_slot;
@@ -658,12 +658,9 @@ impl GpuStep {
             status,
             hits: Vec::new(),
             hit_data: Vec::new(),
-            node_r: node(0),
-            node_z: node(1),
-            node_vr: node(2),
-            node_vz: node(3),
+            node_z: node(0),
+            node_vz: node(1),
         };
-        self.nodes_read = [&rb.node_r, &rb.node_z, &rb.node_vr, &rb.node_vz].map(|v| v.clone());
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             let count = words[at(l.hits)] as usize;
             let h = at(l.hits) + 1;
@@ -672,21 +669,16 @@ impl GpuStep {
                 rb.hits = (0..count)
                     .map(|k| (words[h + 2 * k], words[h + 2 * k + 1]))
                     .collect();
+                let entry =
+                    |e: usize| -> [f32; 4] { std::array::from_fn(|c| floats[d + 4 * e + c]) };
                 rb.hit_data = (0..count)
-                    .map(|k| {
-                        [
-                            floats[d + 4 * k],
-                            floats[d + 4 * k + 1],
-                            floats[d + 4 * k + 2],
-                            floats[d + 4 * k + 3],
-                        ]
-                    })
+                    .map(|k| std::array::from_fn(|e| entry(HIT_ENTRIES * k + e)))
                     .collect();
             } else {
                 // More hits than the read-back's bound: read them all, in one more round trip.
                 let mut batch = ReadBatch::new();
                 let hits = batch.add::<u32>(&c.hits, 1 + 2 * count);
-                let data = batch.add::<[f32; 4]>(&c.hit_data, count);
+                let data = batch.add::<[[f32; 4]; HIT_ENTRIES]>(&c.hit_data, count);
                 let encoder = self
                     .gpu
                     .device
@@ -704,29 +696,14 @@ impl GpuStep {
         Ok(rb)
     }
 
-    /// Write the host's corrections: slaves `(index, [r, z, vr, vz])`, which moved them by at
-    /// most `moved` (m), and the nodes' positions and velocities. Of each node array only the
-    /// span from the first to the last value the correction changed is written: the hits move
-    /// a few nodes' r and vr, the global shift every node's z and vz.
-    pub fn correct(&mut self, fixes: &[(u32, [f32; 4])], moved: f32, nodes: &Nodes) {
+    /// Write the host's correction (`Fixes`), which moved the slaves by at most `moved` (m),
+    /// for the next submission's `apply`.
+    pub fn correct(&mut self, fixes: &Fixes, moved: f32) {
         if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
             c.write_fixes(&self.gpu, fixes);
-            self.pending_fixes = fixes.len() as u32;
+            self.pending_fixes = fixes.slaves.len() as u32;
+            self.pending_nodes = true;
             self.since_build += moved;
-        }
-        let n = &self.nodes;
-        let now = [&nodes.r, &nodes.z, &nodes.vr, &nodes.vz];
-        for ((buffer, read), now) in [&n.r, &n.z, &n.vr, &n.vz]
-            .into_iter()
-            .zip(&self.nodes_read)
-            .zip(now)
-        {
-            let differs = |k: &usize| read[*k].to_bits() != now[*k].to_bits();
-            let mut changed = (0..now.len()).filter(differs);
-            if let Some(first) = changed.next() {
-                let last = changed.next_back().unwrap_or(first);
-                self.gpu.write_at(buffer, first, &now[first..=last]);
-            }
         }
         self.charge(Some(Charge::Step), false);
     }

@@ -243,7 +243,8 @@ pub(super) fn collapsed(dt: f32) -> bool {
 }
 
 /// The λ correction of `hits` (physics.md §4), with `law`'s λ and friction, on `slaves` and the
-/// projectile's nodes; its dissipation and deepest penetration are booked in `account`.
+/// projectile's nodes; its dissipation and deepest penetration are booked in `account`. Returns
+/// the global shift it added to every node's v_z (`contact::correct`).
 pub(super) fn correct_contact(
     hits: &[Hit],
     slaves: Slaves<'_>,
@@ -252,7 +253,7 @@ pub(super) fn correct_contact(
     law: &ContactSpec,
     dt: f32,
     account: &mut Account,
-) {
+) -> f32 {
     let Projectile {
         nodes: n,
         masters,
@@ -287,4 +288,5 @@ pub(super) fn correct_contact(
     account.contact_impulse += stats.impulse_z;
     account.nose_impulse += stats.nose_impulse_z;
     account.max_penetration = account.max_penetration.max(stats.max_penetration);
+    stats.global_shift
 }

@@ -115,7 +115,8 @@ impl Model {
             .fold(0.0f32, f32::max) as f64
     }
 
-    /// Why the run should stop now, if it should.
+    /// Why the run should stop now, if it should. Reads of the state only the nodes' z and
+    /// v_z: all that a GPU step leaves current on the host (`Fresh::Nodes`).
     pub(super) fn stop_reason(&self) -> Option<&'static str> {
         if self.time >= self.scene.run.end_time {
             return Some(crate::output::summary::END_TIME_REACHED);

@@ -4,6 +4,7 @@
 use super::cpu_step::{collapsed, correct_contact, Slaves};
 use super::{Account, Entity, Instability, Model, Pass, RunError, Stepper, Unstable};
 use crate::contact::Hit;
+use crate::gpu::contact_detect::Fixes;
 use crate::gpu::step::{GpuStep, Sync};
 
 /// The GPU path: the state lives on the GPU, and the host's copy is brought up to date by
@@ -74,11 +75,12 @@ impl Model {
                 .map_err(gpu_err)?;
         }
         self.check_dt(dt)?;
+        // Of the nodes, the read-back brings every z and v_z (the correction's momentum and the
+        // stop test read them) and the hits' own nodes whole: the host's r and v_r of the others
+        // stay as the last full or history read left them.
         {
             let n = &mut self.projectile.nodes;
-            n.r = rb.node_r;
             n.z = rb.node_z;
-            n.vr = rb.node_vr;
             n.vz = rb.node_vz;
         }
         if let Some((what, index, reason)) = GpuStep::status_problem(&rb.status) {
@@ -99,8 +101,20 @@ impl Model {
                 let mut order: Vec<usize> = (0..rb.hits.len()).collect();
                 order.sort_by_key(|&k| rb.hits[k].0);
                 let slave = |k: usize| rb.hits[order[k]].0;
-                let data = |k: usize| rb.hit_data[order[k]];
+                let data = |k: usize| rb.hit_data[order[k]][0];
                 let m = order.len();
+                let mut touched: Vec<u32> = Vec::with_capacity(2 * m);
+                let n = &mut self.projectile.nodes;
+                for (&(_, master), entries) in rb.hits.iter().zip(&rb.hit_data) {
+                    let seg = self.projectile.masters[master as usize];
+                    for (node, v) in [(seg.a, entries[1]), (seg.b, entries[2])] {
+                        let i = node as usize;
+                        [n.r[i], n.z[i], n.vr[i], n.vz[i]] = v;
+                        touched.push(node);
+                    }
+                }
+                touched.sort_unstable();
+                touched.dedup();
                 let mut sr: Vec<f32> = (0..m).map(|k| data(k)[0]).collect();
                 let mut sz: Vec<f32> = (0..m).map(|k| data(k)[1]).collect();
                 let mut svr: Vec<f32> = (0..m).map(|k| data(k)[2]).collect();
@@ -114,7 +128,7 @@ impl Model {
                         master: rb.hits[order[k]].1,
                     })
                     .collect();
-                correct_contact(
+                let shift = correct_contact(
                     &hits,
                     Slaves {
                         r: &mut sr,
@@ -137,7 +151,21 @@ impl Model {
                     .map(|k| (sr[k] - data(k)[0]).hypot(sz[k] - data(k)[1]))
                     .fold(0.0f32, f32::max);
                 let n = &self.projectile.nodes;
-                g.correct(&fixes, moved, n);
+                let nodes: Vec<(u32, [f32; 4])> = touched
+                    .iter()
+                    .map(|&k| {
+                        let i = k as usize;
+                        (k, [n.r[i], n.z[i], n.vr[i], n.vz[i]])
+                    })
+                    .collect();
+                let fixes = Fixes {
+                    slaves: &fixes,
+                    nodes: &nodes,
+                    shift,
+                    // As contact::correct rounds it for the host's nodes.
+                    shift_dt: shift * dt,
+                };
+                g.correct(&fixes, moved);
             }
         }
         self.time += dt as f64;

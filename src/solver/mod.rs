@@ -101,8 +101,9 @@ impl Account {
 }
 
 /// How much of the host's copy of a GPU run's state is current, least first. A GPU step
-/// leaves the projectile's nodes current (the λ correction reads them), `Sync::History`
-/// what a history row reads, `Sync::Full` everything.
+/// leaves every node's z and v_z current and the nodes its hits touched whole (what the λ
+/// correction and the stop test read; gpu::step), `Sync::History` what a history row reads,
+/// `Sync::Full` everything.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Fresh {
     Nodes,

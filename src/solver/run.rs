@@ -185,7 +185,7 @@ pub fn run(scene: &Scene, opts: &RunOptions) -> Result<RunOutcome, RunError> {
                 false,
             );
         }
-        // A step leaves the nodes current (`Fresh::Nodes`), all that this reads.
+        // A step leaves the nodes' z and v_z current (`Fresh::Nodes`), all that this reads.
         if let Some(reason) = sim.model.stop_reason() {
             break ("completed".to_string(), reason.to_string(), true);
         }

@@ -1,7 +1,7 @@
 //! What a step reads back (gpu::step): the staging buffer's layout and the bound on the hits it
 //! copies.
 
-use super::STATUS_WORDS;
+use super::{HIT_ENTRIES, STATUS_WORDS};
 
 /// What one step's read-back holds.
 pub struct Readback {
@@ -12,16 +12,15 @@ pub struct Readback {
     pub status: [u32; STATUS_WORDS],
     /// (slave, master) pairs, in the order the GPU appended them.
     pub hits: Vec<(u32, u32)>,
-    /// (r, z, vr, vz) of each hit's slave after integration.
-    pub hit_data: Vec<[f32; 4]>,
-    pub node_r: Vec<f32>,
+    /// (r, z, vr, vz) of each hit's slave, node A and node B after integration.
+    pub hit_data: Vec<[[f32; 4]; HIT_ENTRIES]>,
+    /// Every node's z and v_z after integration.
     pub node_z: Vec<f32>,
-    pub node_vr: Vec<f32>,
     pub node_vz: Vec<f32>,
 }
 
 /// Byte offsets in the staging buffer: the fixed part first, then the hit count and as many
-/// hits as the read-back's bound (`HitBound`), then their slaves' kinematics.
+/// hits as the read-back's bound (`HitBound`), then their kinematics (`HIT_ENTRIES` each).
 pub(super) struct Layout {
     pub moved2: u64,
     pub fem_limited: u64,
@@ -34,7 +33,7 @@ impl Layout {
     /// Where the slaves' kinematics start, and the bytes to map, when `bound` hits are copied.
     pub fn hit_data(&self, bound: usize) -> (u64, u64) {
         let at = self.hits + 4 * (1 + 2 * bound as u64);
-        (at, at + 16 * bound as u64)
+        (at, at + 16 * (HIT_ENTRIES * bound) as u64)
     }
 }
 

@@ -45,6 +45,7 @@ impl GpuStep {
             self.built(build);
             self.pending_forces = false;
             self.pending_fixes = 0;
+            self.pending_nodes = false;
             self.folded = true;
         }
     }
