@@ -461,6 +461,10 @@ fn bench_splits_the_gpu_step_on_the_host() {
         "{plain} and {building}"
     );
     assert!(rows[1].dispatches.is_none());
+    // Every step reads back at least its Δt and status words; the CPU moves nothing.
+    let (read, written) = gpu_row.step_bytes.expect("a GPU row counts its bytes");
+    assert!(read > 0.0 && written >= 0.0, "{read} and {written}");
+    assert!(rows[1].step_bytes.is_none());
     assert!(bench::table(&rows).contains(" / "));
 }
 

@@ -36,6 +36,8 @@ pub struct BenchRow {
     /// Compute dispatches a step records (GPU only): the fewest over the timed steps (a step
     /// that builds no lists), and the mean of the steps that each build them.
     pub dispatches: Option<(u64, f64)>,
+    /// Bytes a timed step read back and wrote, on average (GPU only; `gpu_transfers`' steps).
+    pub step_bytes: Option<(f64, f64)>,
     /// Why this size did not run on this backend (a limit of the adapter, say).
     pub refused: Option<String>,
 }
@@ -94,6 +96,7 @@ pub fn run(
                         build_ms: None,
                         host_us: None,
                         dispatches: None,
+                        step_bytes: None,
                         refused: Some(e.to_string()),
                     });
                     continue;
@@ -120,6 +123,8 @@ pub fn run(
             let builds = |sim: &mut Simulation| sim.gpu_step().map(|g| g.builds);
             let builds_before = builds(&mut sim);
             let host_before = sim.gpu_step().map(|g| g.host);
+            let step_traffic = |sim: &mut Simulation| sim.gpu_step().map(|g| g.traffic.steps);
+            let traffic_before = step_traffic(&mut sim);
             let dispatched = |sim: &mut Simulation| sim.gpu_step().map(|g| g.dispatches());
             let mut fewest_dispatches: Option<u64> = None;
             let mut wall = 0.0;
@@ -147,6 +152,13 @@ pub fn run(
                         per_step(wall - record - submit - wait),
                     ]
                 });
+            let step_bytes = step_traffic(&mut sim).zip(traffic_before).map(|(a, b)| {
+                let per_step = |x: u64, y: u64| (x - y) as f64 / timed as f64;
+                (
+                    per_step(a.read_bytes, b.read_bytes),
+                    per_step(a.written_bytes, b.written_bytes),
+                )
+            });
             let list_builds = builds(&mut sim).zip(builds_before).map(|(a, b)| a - b);
             let on_gpu = sim.backend() == "gpu";
             let m = sim.model().map_err(|e| e.to_string())?;
@@ -169,6 +181,7 @@ pub fn run(
                 build_ms: None,
                 host_us,
                 dispatches: None,
+                step_bytes,
                 refused: None,
             };
             if let Some(g) = sim.gpu_step() {
@@ -229,12 +242,12 @@ fn profile(sim: &mut Simulation, steps: usize) -> Result<Vec<(&'static str, f64)
 /// The table as Markdown.
 pub fn table(rows: &[BenchRow]) -> String {
     let mut out = String::from(
-        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build | dispatches/step (building lists) | host µs/step: record / submit / wait / rest |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| backend | particles | elements | steps | ms/step | particle-steps/s | read-back µs | GPU bytes/particle | list builds | ms per list build | dispatches/step (building lists) | host µs/step: record / submit / wait / rest | bytes/step read / written |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(why) = &r.refused {
             out += &format!(
-                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – | – | – |\n",
+                "| {} | ~{} | – | – | – | not run: {} | – | – | – | – | – | – | – |\n",
                 r.backend,
                 r.particles,
                 why.replace('|', "/")
@@ -242,7 +255,7 @@ pub fn table(rows: &[BenchRow]) -> String {
             continue;
         }
         out += &format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {:.3} | {:.3e} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.backend,
             r.particles,
             r.elements,
@@ -260,6 +273,9 @@ pub fn table(rows: &[BenchRow]) -> String {
             r.host_us.map_or("–".into(), |h| format!(
                 "{:.0} / {:.0} / {:.0} / {:.0}",
                 h[0], h[1], h[2], h[3]
+            )),
+            r.step_bytes.map_or("–".into(), |(read, written)| format!(
+                "{read:.0} / {written:.0}"
             )),
         );
     }
