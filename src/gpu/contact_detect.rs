@@ -36,7 +36,7 @@ pub struct ContactPass {
     pub hits: wgpu::Buffer,
     pub hit_data: wgpu::Buffer,
     pub fixes: wgpu::Buffer,
-    pub node_fixes: wgpu::Buffer,
+    node_fixes: wgpu::Buffer,
     n_slaves: u32,
     n_nodes: u32,
 }

@@ -107,9 +107,10 @@ impl Model {
                 let n = &mut self.projectile.nodes;
                 for (&(_, master), entries) in rb.hits.iter().zip(&rb.hit_data) {
                     let seg = self.projectile.masters[master as usize];
+                    // Their z and v_z came with every node's.
                     for (node, v) in [(seg.a, entries[1]), (seg.b, entries[2])] {
                         let i = node as usize;
-                        [n.r[i], n.z[i], n.vr[i], n.vz[i]] = v;
+                        (n.r[i], n.vr[i]) = (v[0], v[2]);
                         touched.push(node);
                     }
                 }
