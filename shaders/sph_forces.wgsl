@@ -8,8 +8,13 @@
 // approach left at the pair's midpoint after a limited linear reconstruction from both ends'
 // l_visc (sph_forces.rs `reconstructed_jump`); the time step still the raw one.
 // It also folds each particle's stable step into the clock (step.wgsl).
-// Needs params.wgsl, step.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
-// neighbour_loop.wgsl.
+// With IMAGES a particle lining the projectile also gathers over its wall images
+// (wall_images.wgsl; sph_forces.rs's image loop): each carries its source's stress reflected
+// (R σ R) and moves as it mirrored in the wall's frame; the particle books their whole work
+// relative to the wall, and the ring force they exert, 2π m̃_i Σ, goes to wall_force for the
+// walls pass to hand to the nodes.
+// Needs params.wgsl, step.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6),
+// neighbour_loop.wgsl, wall.wgsl and wall_images.wgsl (binding 30).
 
 @group(0) @binding(8) var<storage, read> p: array<f32>;
 @group(0) @binding(12) var<storage, read> s_tt: array<f32>;
@@ -28,6 +33,8 @@
 @group(0) @binding(26) var<storage, read_write> clock: ClockAtomic;
 @group(0) @binding(27) var<uniform> fold_slot: DtSlot;
 @group(0) @binding(28) var<storage, read> l_visc: array<vec4<f32>>;
+// With IMAGES: the ring force (N) each particle's images exert on it, where it has a wall.
+@group(0) @binding(31) var<storage, read_write> wall_force: array<vec2<f32>>;
 
 // The Gray–Monaghan artificial stress is on (SphParams::art_stress_eps > 0): a pipeline
 // constant, so a scene without it compiles without it (a branch not taken still costs on a
@@ -37,6 +44,8 @@ override ART_STRESS: bool;
 override BALSARA: bool;
 // target.viscosity_jump = "reconstructed" (SphParams::reconstruct_viscosity).
 override RECONSTRUCT: bool;
+// contact.kernel = "images": the walls pass has found each particle's wall.
+override IMAGES: bool;
 
 // Smallest base handed to pow (undefined for a base <= 0); W > 0 inside the support anyway.
 const POW_BASE_FLOOR: f32 = 1.0e-30;
@@ -63,6 +72,8 @@ struct Gather {
     ri: f32,
     // l_visc[i], with RECONSTRUCT
     l: vec4<f32>,
+    // Σ over the images of their pair terms, with IMAGES.
+    image_acc: vec2<f32>,
 }
 
 // sph_forces.rs `reconstructed_jump`, in its order of operations: the approach vx < 0 left at
@@ -140,6 +151,54 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     (*g).pair_power += pair.x * dvr + pair.y * dvz;
 }
 
+// The image of neighbour j (of i itself when j = i) across i's wall w, at d = x_i − x_image
+// (sph_forces.rs's image loop, in its order of operations): w = r on both sides.
+fn image(g: ptr<function, Gather>, i: u32, j: u32, w: Wall, d: vec2<f32>, dist: f32,
+         r_image: f32) {
+    let h = u.kernel.h;
+    let pj = pair_s[j];
+    let mj = pj.w;
+    let gw = kernel_grad(u.kernel, d, dist);
+    let si = (*g).s;
+    let sg = wall_tensor(w, pj.xyz);
+    let ri = (*g).ri;
+    let rg = hoop_radius(r_image, h);
+    var t = vec3<f32>(ri * si.x + rg * sg.x, ri * si.y + rg * sg.y, ri * si.z + rg * sg.z);
+    let vg = wall_velocity(w, kin[j].zw);
+    let dvr = (*g).v.x - vg.x;
+    let dvz = (*g).v.y - vg.y;
+    let vx = dvr * d.x + dvz * d.y;
+    if (vx < 0.0) {
+        (*g).mu_max = max((*g).mu_max, -h * vx / (dist * dist + ETA2 * h * h));
+    }
+    var jump = vx;
+    if (RECONSTRUCT && vx < 0.0) {
+        jump = reconstructed_jump(vx, d, (*g).l, wall_gradient(w, l_visc[j]));
+    }
+    if (jump < 0.0) {
+        let mu = h * jump / (dist * dist + ETA2 * h * h);
+        let cj = pair_c[j];
+        let c_mean = 0.5 * ((*g).sound + cj.x);
+        let rho_mean = 0.5 * ((*g).rho + cj.y);
+        var pi = 0.5 * (ri + rg) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
+        if (BALSARA) {
+            pi *= 0.5 * ((*g).visc_switch + cj.z);
+        }
+        t.x -= pi;
+        t.y -= pi;
+        (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y) / ri;
+    }
+    if (ART_STRESS) {
+        let ri_art = (*g).art;
+        let rg_art = wall_tensor(w, vec3_of(art_stress[j]));
+        let f = pow(max(kernel_w(u.kernel, dist) / u.w_spacing, POW_BASE_FLOOR), u.art_stress_n);
+        t.x += f * (ri * ri_art.x + rg * rg_art.x);
+        t.y += f * (ri * ri_art.y + rg * rg_art.y);
+        t.z += f * (ri * ri_art.z + rg * rg_art.z);
+    }
+    (*g).image_acc += vec2<f32>(mj * (t.x * gw.x + t.z * gw.y), mj * (t.z * gw.x + t.y * gw.y));
+}
+
 // Per particle: the gather over neighbours and axis ghosts (neighbour_loop.wgsl), then the
 // hoop source.
 @compute @workgroup_size(WG)
@@ -149,7 +208,7 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ki = kin[i];
     let ci = pair_c[i];
     var g = Gather(vec2<f32>(0.0, 0.0), 0.0, 0.0, 0.0, pair_s[i].xyz, vec3<f32>(0.0), ki.zw,
-        ci.x, ci.y, ci.z, hoop_radius(ki.x, u.kernel.h), vec4<f32>(0.0));
+        ci.x, ci.y, ci.z, hoop_radius(ki.x, u.kernel.h), vec4<f32>(0.0), vec2<f32>(0.0));
     if (RECONSTRUCT) {
         g.l = l_visc[i];
     }
@@ -157,6 +216,17 @@ fn forces(@builtin(global_invocation_id) gid: vec3<u32>) {
         g.art = vec3_of(art_stress[i]);
     }
     for_each_neighbour(&g, i);
+    let wall = wall_of(i);
+    if (wall.seg != NO_WALL) {
+        for_each_image(&g, i, wall);
+        // The wall takes no heat: the particle books the images' whole work relative to it,
+        // which is what they and the projectile exchange (wall.rs).
+        let u_rel = ki.zw - wall.v;
+        g.pair_power += 2.0 * (g.image_acc.x * u_rel.x + g.image_acc.y * u_rel.y);
+        g.acc += g.image_acc;
+        // The ring force is m a = 2π m̃_i · acc (a = acc/r_i).
+        wall_force[i] = 2.0 * PI * pair_s[i].w * g.image_acc;
+    }
 
     let ri = g.ri;
     let hoop_r = -(s_tt[i] - p[i]) * hoop_weight[i] / (ci.y * ri);

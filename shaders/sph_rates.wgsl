@@ -10,8 +10,11 @@
 // m̃_j/ρ_j and corrected by M.
 // m̃ and m̃/ρ are the neighbours pass's (`pack`, this step's positions), which packs what a
 // neighbour gives here for one load (`rate_pair`: m̃/ρ, (m̃/ρ) ρ, m̃, hoop_radius(r)).
-// Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6) and
-// neighbour_loop.wgsl.
+// With IMAGES (contact.kernel = "images") the particles lining the projectile also gather over
+// their wall images (wall_images.wgsl): the image of neighbour j moves as j mirrored in the
+// wall's frame, sits at j's reflection, and weighs its own radius in the hoop weight.
+// Needs params.wgsl, grid.wgsl, gather_bindings.wgsl (bindings 0–6), neighbour_loop.wgsl,
+// wall.wgsl and wall_images.wgsl (binding 30).
 
 @group(0) @binding(7) var<storage, read> rho: array<f32>;
 @group(0) @binding(8) var<storage, read> sound: array<f32>;
@@ -32,6 +35,8 @@ override BALSARA: bool;
 override CONJUGATE: bool;
 // target.viscosity_jump = "reconstructed" (SphParams::reconstruct_viscosity).
 override RECONSTRUCT: bool;
+// contact.kernel = "images": the walls pass has found each particle's wall.
+override IMAGES: bool;
 
 // G = Σ (m̃_j/ρ_j)(v_j − v_i) ⊗ ∇W and M = Σ (m̃_j/ρ_j)(x_j − x_i) ⊗ ∇W, row-major
 // (rr, rz, zr, zz); M always with m̃_j/ρ_j (with CONJUGATE only the corrected gc needs it).
@@ -71,6 +76,29 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
     (*acc).weight += nb.z * (sign * ri + sign * rj - 2.0 * ri) * gw.x;
 }
 
+// The image of neighbour j (of i itself when j = i) across i's wall w, at d = x_i − x_image
+// (sph_rates.rs `Field::gradient`'s image loop, in its order of operations).
+fn image(acc: ptr<function, Gather>, i: u32, j: u32, w: Wall, d: vec2<f32>, dist: f32,
+         r_image: f32) {
+    let nb = rate_pair[j];
+    var a = nb.x;
+    if (CONJUGATE) {
+        a = nb.y / (*acc).rho_i;
+    }
+    let gw = kernel_grad(u.kernel, d, dist);
+    let vg = wall_velocity(w, kin[j].zw);
+    let dvr = vg.x - (*acc).v.x;
+    let dvz = vg.y - (*acc).v.y;
+    (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
+    let c = nb.x;
+    if (RECONSTRUCT && CONJUGATE) {
+        (*acc).gc += vec4<f32>(c * dvr * gw.x, c * dvr * gw.y, c * dvz * gw.x, c * dvz * gw.y);
+    }
+    (*acc).m -= vec4<f32>(c * d.x * gw.x, c * d.x * gw.y, c * d.y * gw.x, c * d.y * gw.y);
+    let rg = hoop_radius(r_image, u.kernel.h);
+    (*acc).weight += nb.z * (rg - (*acc).ri) * gw.x;
+}
+
 // sph_rates.rs `correct`: L = G M⁻¹ where det M is large enough, else G.
 fn correct(g: vec4<f32>, m: vec4<f32>) -> vec4<f32> {
     let det = m.x * m.w - m.y * m.z;
@@ -93,6 +121,10 @@ fn gradient(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ki = kin[i];
     var acc = Gather(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), ki.zw, rho[i], hoop_radius(ki.x, u.kernel.h), 0.0);
     for_each_neighbour(&acc, i);
+    let w = wall_of(i);
+    if (w.seg != NO_WALL) {
+        for_each_image(&acc, i, w);
+    }
     var l = acc.g;
     if (!CONJUGATE) {
         l = correct(acc.g, acc.m);

@@ -8,11 +8,13 @@ pub enum Pass {
     ContactDetect,
     ContactCorrect,
     Neighbours,
+    Walls,
     SphRates,
     Concrete,
     SphForces,
     FemStress,
     FemForces,
+    WallForces,
 }
 
 impl Pass {
@@ -23,11 +25,13 @@ impl Pass {
             Pass::ContactDetect => "contact_detect",
             Pass::ContactCorrect => "contact_correct",
             Pass::Neighbours => "neighbours",
+            Pass::Walls => "walls",
             Pass::SphRates => "sph_rates",
             Pass::Concrete => "concrete",
             Pass::SphForces => "sph_forces",
             Pass::FemStress => "fem_stress",
             Pass::FemForces => "fem_forces",
+            Pass::WallForces => "wall_forces",
         }
     }
 
@@ -43,21 +47,23 @@ impl Pass {
 
 /// The passes a scene needs, in the order they run: the target's (contact, neighbours, SPH
 /// rates, concrete, SPH forces) when it has one, the projectile's stress and forces when it
-/// deforms (not a rigid λ = 0 projectile).
-pub fn for_scene(has_target: bool, deformable: bool) -> Vec<Pass> {
+/// deforms (not a rigid λ = 0 projectile), and with `images` (`contact.kernel = "images"`, which
+/// needs both) the walls before the rates and their reaction after the projectile's forces.
+pub fn for_scene(has_target: bool, deformable: bool, images: bool) -> Vec<Pass> {
+    let images = images && has_target && deformable;
     let mut passes = vec![Pass::Integrate];
     if has_target {
-        passes.extend([
-            Pass::ContactDetect,
-            Pass::ContactCorrect,
-            Pass::Neighbours,
-            Pass::SphRates,
-            Pass::Concrete,
-            Pass::SphForces,
-        ]);
+        passes.extend([Pass::ContactDetect, Pass::ContactCorrect, Pass::Neighbours]);
+        if images {
+            passes.push(Pass::Walls);
+        }
+        passes.extend([Pass::SphRates, Pass::Concrete, Pass::SphForces]);
     }
     if deformable {
         passes.extend([Pass::FemStress, Pass::FemForces]);
+    }
+    if images {
+        passes.push(Pass::WallForces);
     }
     passes
 }

@@ -280,6 +280,32 @@ fn gpu_depth_matches_cpu_with_friction() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// With the wall images: the GPU's walls, image gathers and segment sums give the CPU's depth
+/// within 0.5 % and its account (the images' reaction booked with the contact's impulse, which
+/// stays the projectile's momentum change on both paths), and the images move the depth.
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn gpu_depth_matches_cpu_with_wall_images() {
+    let dir =
+        std::env::temp_dir().join(format!("penetrate-test-{}-gpu-images", std::process::id()));
+    let (cpu, gpu) = short_penetration(&["contact.kernel=\"images\""], &dir);
+    books_the_cpu_account(&cpu, &gpu);
+    assert!(
+        gpu.summary.passes.contains(&"walls:gpu".to_string()),
+        "{:?}",
+        gpu.summary.passes
+    );
+    let cut = short_run(
+        &smoke(&["run.end_time=1e-4"]),
+        &dir.join("cut"),
+        Backend::Cpu,
+    );
+    let (d, d0) = (cpu.summary.depth_m, cut.summary.depth_m);
+    eprintln!("short penetration: {d} m with images, {d0} m cut");
+    assert!(d != d0, "the images change nothing");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The GPU run's energy error, contact impulse and nose impulse are the CPU's, and its contact
 /// impulse is its projectile's momentum change.
 fn books_the_cpu_account(cpu: &solver::RunOutcome, gpu: &solver::RunOutcome) {

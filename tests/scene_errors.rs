@@ -433,6 +433,17 @@ fn bad_choices_and_conflicting_keys() {
         &[],
         &["projectile.crh", "cylinder has no crh"],
     );
+    refused(
+        &smoke_text(),
+        &["contact.kernel=\"ghosts\""],
+        &["contact.kernel", "\"cut\", \"images\""],
+    );
+    // The images' reaction needs nodes that move by it.
+    refused(
+        &smoke_text(),
+        &["contact.kernel=\"images\"", "contact.lambda=0"],
+        &["contact.kernel", "contact.lambda", "deformable projectile"],
+    );
 }
 
 #[test]

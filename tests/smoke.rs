@@ -330,6 +330,50 @@ fn friction_slows_the_smoke_shot_and_keeps_the_energy_balance() {
     }
 }
 
+/// The wall images complete the lining's kernel and hand their reaction to the projectile: the
+/// smoke shot with them ends at another depth, the contact's impulse (the images' reaction
+/// booked with the correction's) is still the projectile's momentum change, the model's
+/// momentum and energy still close, and the images take load off the correction.
+#[test]
+fn wall_images_push_on_the_projectile_and_keep_the_balances() {
+    let run = |kernel: &str| {
+        let set = [format!("contact.kernel=\"{kernel}\"")];
+        let scene = scene::load(&case("smoke.toml"), &set).unwrap();
+        let out = scratch(&format!("kernel-{kernel}"));
+        let outcome = common::run_cpu(&scene, &out, false);
+        let _ = std::fs::remove_dir_all(&out);
+        assert!(outcome.ok, "{kernel}: {}", outcome.summary.status);
+        (scene, outcome.summary)
+    };
+    let (_, cut) = run("cut");
+    let (scene, images) = run("images");
+    eprintln!(
+        "depth {} m with images, {} m cut; contact dissipated {} J, {} J",
+        images.depth_m,
+        cut.depth_m,
+        images.energy.contact_dissipated,
+        cut.energy.contact_dissipated
+    );
+    assert!(images.depth_m != cut.depth_m, "the images change nothing");
+    assert!(
+        images.energy.contact_dissipated < cut.energy.contact_dissipated,
+        "the images leave the correction as much to do"
+    );
+    let change =
+        images.projectile_mass_kg * (scene.projectile.velocity - images.projectile_velocity_m_s);
+    assert!(
+        (images.contact_impulse_n_s - change).abs() < 1e-3 * change,
+        "contact impulse {} N s against the momentum change {change} N s",
+        images.contact_impulse_n_s
+    );
+    assert!(
+        images.momentum_error.abs() < 1e-5,
+        "{}",
+        images.momentum_error
+    );
+    assert!(images.energy_error.abs() < 0.01, "{}", images.energy_error);
+}
+
 /// The projectile's yielding is set by its load, not by the step: the smoke scene at 1500 m/s
 /// to 0.1 ms at CFL 0.25 and 0.125 puts the same plastic work into the projectile to well
 /// within what a step-made share would change (halving the step would halve it): 1.33 and

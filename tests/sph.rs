@@ -57,7 +57,7 @@ fn free_target_with_rates() -> (TargetSpec, Particles, SphParams, neighbours::Ce
     let mut grid = neighbours::CellGrid::default();
     let support = integrate::support(&params);
     neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
-    sph_rates::run(&mut p, &grid, &params);
+    sph_rates::run(&mut p, &grid, &params, None);
     (s, p, params, grid, support)
 }
 
@@ -70,9 +70,9 @@ fn target_at_rest_stays_at_rest() {
     for _ in 0..1000 {
         integrate::particles(&mut p, &params, dt, 10.0).unwrap();
         neighbours::run(&mut grid, &p.r, &p.z, &params.kernel);
-        sph_rates::run(&mut p, &grid, &params);
+        sph_rates::run(&mut p, &grid, &params, None);
         concrete::run(&mut p, &params, dt);
-        sph_forces::run(&mut p, &grid, &params);
+        sph_forces::run(&mut p, &grid, &params, None);
     }
     let vmax = (0..p.len())
         .map(|i| p.vr[i].hypot(p.vz[i]))
@@ -103,7 +103,7 @@ fn gradient_is_exact(filter: bool) {
     for i in 0..p.len() {
         p.vz[i] = -250.0;
     }
-    sph_rates::run(&mut p, &grid, &params);
+    sph_rates::run(&mut p, &grid, &params, None);
     for i in 0..p.len() {
         assert_eq!(
             (p.l_rr[i], p.l_rz[i], p.l_zr[i], p.l_zz[i], p.drho[i]),
@@ -117,7 +117,7 @@ fn gradient_is_exact(filter: bool) {
         p.vr[i] = a * p.r[i];
         p.vz[i] = b * p.z[i];
     }
-    sph_rates::run(&mut p, &grid, &params);
+    sph_rates::run(&mut p, &grid, &params, None);
     let support = integrate::support(&params) as f64;
     let mut checked = 0;
     for i in 0..p.len() {
@@ -185,7 +185,7 @@ fn velocity_filter_takes_particle_scatter_out_of_the_gradient() {
     assert!(interior.len() > 50);
     let mut errors = |filter: bool| {
         params.velocity_filter = filter;
-        sph_rates::run(&mut p, &grid, &params);
+        sph_rates::run(&mut p, &grid, &params, None);
         let e: Vec<f32> = interior
             .iter()
             .map(|&i| {
@@ -247,8 +247,8 @@ fn conjugate_gradient_stress_power_is_the_forces_work() {
     }
     let mut mismatch = |conjugate: bool| {
         params.conjugate_gradient = conjugate;
-        sph_rates::run(&mut p, &grid, &params);
-        sph_forces::run(&mut p, &grid, &params);
+        sph_rates::run(&mut p, &grid, &params, None);
+        sph_forces::run(&mut p, &grid, &params, None);
         let (mut stress, mut force) = (0.0f64, 0.0f64);
         for i in 0..p.len() {
             let m = p.mass[i] as f64 / p.rho[i] as f64;
@@ -302,7 +302,7 @@ fn stress_fields_give_the_cylindrical_divergence() {
 
     let pressure = 1.0e8f32;
     p.p.iter_mut().for_each(|x| *x = pressure);
-    sph_forces::run(&mut p, &grid, &params);
+    sph_forces::run(&mut p, &grid, &params, None);
     // A pressure gradient of 1 Pa/Δ would give p/(ρ Δ) · 1e-8 m/s².
     let scale = pressure / (rho * s.spacing as f32);
     for &i in &interior {
@@ -320,7 +320,7 @@ fn stress_fields_give_the_cylindrical_divergence() {
     for i in 0..p.len() {
         p.s_zz[i] = k * p.z[i];
     }
-    sph_forces::run(&mut p, &grid, &params);
+    sph_forces::run(&mut p, &grid, &params, None);
     for &i in &interior {
         let rel = p.az[i] * rho / k - 1.0;
         assert!(
@@ -335,7 +335,7 @@ fn stress_fields_give_the_cylindrical_divergence() {
         p.s_zz[i] = 0.0;
         p.s_rz[i] = k * p.r[i];
     }
-    sph_forces::run(&mut p, &grid, &params);
+    sph_forces::run(&mut p, &grid, &params, None);
     for &i in &interior {
         let rel = p.az[i] * rho / (2.0 * k) - 1.0;
         let row = (p.r[i] / s.spacing as f32).floor();
@@ -358,7 +358,7 @@ fn stress_fields_give_the_cylindrical_divergence() {
 fn lateral_face_pushes_out_as_the_front_face() {
     let (s, mut p, params, grid, support) = free_target_with_rates();
     p.p.iter_mut().for_each(|x| *x = 1.0e8);
-    sph_forces::run(&mut p, &grid, &params);
+    sph_forces::run(&mut p, &grid, &params, None);
     let dx = s.spacing as f32;
     let (radius, depth) = (s.radius as f32, s.thickness as f32);
     let full_z = |i: usize| p.z[i] + support < 0.0 && p.z[i] - support > -depth;
@@ -389,7 +389,7 @@ fn lateral_face_pushes_out_as_the_front_face() {
         })
         .unwrap();
     p.p[k] = 2.0e8;
-    sph_forces::run(&mut p, &grid, &params);
+    sph_forces::run(&mut p, &grid, &params, None);
     assert!(
         p.ar[k] > 1.0e6,
         "over-pressured surface particle: a_r {}",
@@ -455,9 +455,9 @@ fn slug_impact(s: TargetSpec) {
     let mut grid = neighbours::CellGrid::default();
     let step = |p: &mut Particles, grid: &mut neighbours::CellGrid, dt: f32| {
         neighbours::run(grid, &p.r, &p.z, &params.kernel);
-        sph_rates::run(p, grid, &params);
+        sph_rates::run(p, grid, &params, None);
         concrete::run(p, &params, dt);
-        sph_forces::run(p, grid, &params);
+        sph_forces::run(p, grid, &params, None);
     };
     let mut dt = 0.3 * timestep::particle_dt(&p, &params);
     step(&mut p, &mut grid, dt);
@@ -518,8 +518,8 @@ fn balsara_switch_removes_the_viscosity_from_shear_only() {
         for i in 0..p.len() {
             (p.vr[i], p.vz[i]) = v(p.r[i], p.z[i]);
         }
-        sph_rates::run(&mut p, &grid, params);
-        sph_forces::run(&mut p, &grid, params);
+        sph_rates::run(&mut p, &grid, params, None);
+        sph_forces::run(&mut p, &grid, params, None);
         p
     };
     let inside: Vec<usize> = (0..p0.len()).filter(|&i| inner(&p0, i)).collect();
@@ -606,8 +606,8 @@ fn reconstruction_takes_the_viscosity_out_of_a_smooth_compression_only() {
         for i in 0..p.len() {
             (p.vr[i], p.vz[i]) = v(p.r[i], p.z[i]);
         }
-        sph_rates::run(&mut p, &grid, params);
-        sph_forces::run(&mut p, &grid, params);
+        sph_rates::run(&mut p, &grid, params, None);
+        sph_forces::run(&mut p, &grid, params, None);
         (0..p.len())
             .filter(|&i| inner(&p0, i))
             .map(|i| p.mass[i] as f64 * p.de_visc[i] as f64)

@@ -13,3 +13,4 @@ pub mod sph_filter;
 pub mod sph_forces;
 pub mod sph_rates;
 pub mod timestep;
+pub mod wall;

@@ -46,6 +46,9 @@
 use rayon::prelude::*;
 
 use super::neighbours::CellGrid;
+use super::wall::Wall;
+
+const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
 use super::sph_rates::hoop_radius;
 use crate::state::{Particles, SphParams};
 
@@ -90,14 +93,22 @@ pub fn prologue(particles: &mut Particles, params: &SphParams) {
 }
 
 /// Particle accelerations, the viscous heating, the largest μ of each particle's pairs and the
-/// work-conjugate energy rate, after `prologue`.
-pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
+/// work-conjugate energy rate, after `prologue`; and the ring force (N) each particle's wall
+/// images exert on it (`wall`), zero where it has none.
+pub fn run(
+    particles: &mut Particles,
+    grid: &CellGrid,
+    params: &SphParams,
+    walls: Option<&[Wall]>,
+) -> Vec<[f32; 2]> {
     prologue(particles, params);
     let art_on = params.art_stress_eps > 0.0;
     let h = params.h;
     let kernel = &params.kernel;
+    let mut reaction = vec![[0.0f32; 2]; particles.len()];
     let Particles {
         r,
+        z,
         vr,
         vz,
         ar,
@@ -118,8 +129,9 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         ..
     } = particles;
     let l_visc = &*l_visc;
-    let (r, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
+    let (r, z, vr, vz, rho, p, s_tt, sound, visc_switch, m_tilde, hoop_weight, sigma, art) = (
         &*r,
+        &*z,
         &*vr,
         &*vz,
         &*rho,
@@ -137,8 +149,9 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         .zip(de_visc.par_iter_mut())
         .zip(de_work.par_iter_mut())
         .zip(mu_visc.par_iter_mut())
+        .zip(reaction.par_iter_mut())
         .enumerate()
-        .for_each(|(i, ((((ar, az), de), work), mu_out))| {
+        .for_each(|(i, (((((ar, az), de), work), mu_out), react))| {
             let si = sigma[i];
             let ri_art = art[i];
             let ri = hoop_radius(r[i], h);
@@ -202,6 +215,69 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
                 acc[1] += pair[1];
                 pair_power += pair[0] * dvr + pair[1] * dvz;
             }
+            if let Some(wall) = walls.map(|w| w[i]).filter(|w| w.on()) {
+                let mut image_acc = [0.0f32; 2];
+                wall.images(i, r, z, grid, kernel, |im| {
+                    let j = im.j;
+                    let mj = m_tilde[j];
+                    let gw = im.grad;
+                    let sg = wall.tensor(sigma[j]);
+                    let rg = hoop_radius(im.r, h);
+                    let (wi, wj) = (ri, rg);
+                    let mut t = [
+                        wi * si[0] + wj * sg[0],
+                        wi * si[1] + wj * sg[1],
+                        wi * si[2] + wj * sg[2],
+                    ];
+                    let (vrg, vzg) = wall.velocity(vr[j], vz[j]);
+                    let (dvr, dvz) = (vr[i] - vrg, vz[i] - vzg);
+                    let vx = dvr * im.dr + dvz * im.dz;
+                    if vx < 0.0 {
+                        mu_max = mu_max.max(-h * vx / (im.dist * im.dist + ETA2 * h * h));
+                    }
+                    let jump = if params.reconstruct_viscosity && vx < 0.0 {
+                        reconstructed_jump(vx, [im.dr, im.dz], l_visc[i], wall.gradient(l_visc[j]))
+                    } else {
+                        vx
+                    };
+                    if jump < 0.0 {
+                        let mu = h * jump / (im.dist * im.dist + ETA2 * h * h);
+                        let c_mean = 0.5 * (sound[i] + sound[j]);
+                        let rho_mean = 0.5 * (rho[i] + rho[j]);
+                        let mut pi =
+                            0.5 * (ri + rg) * (-params.alpha * c_mean * mu + params.beta * mu * mu)
+                                / rho_mean;
+                        if params.balsara {
+                            pi *= 0.5 * (visc_switch[i] + visc_switch[j]);
+                        }
+                        t[0] -= pi;
+                        t[1] -= pi;
+                        heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]) / ri;
+                    }
+                    if art_on {
+                        let rg_art = wall.tensor(art[j]);
+                        let f = (kernel.w(im.dist) / params.w_spacing).powf(params.art_stress_n);
+                        t[0] += f * (wi * ri_art[0] + wj * rg_art[0]);
+                        t[1] += f * (wi * ri_art[1] + wj * rg_art[1]);
+                        t[2] += f * (wi * ri_art[2] + wj * rg_art[2]);
+                    }
+                    let pair = [
+                        mj * (t[0] * gw[0] + t[2] * gw[1]),
+                        mj * (t[2] * gw[0] + t[1] * gw[1]),
+                    ];
+                    image_acc[0] += pair[0];
+                    image_acc[1] += pair[1];
+                });
+                // The wall takes no heat: the particle books the images' whole work relative to
+                // the wall, which is what they and the projectile exchange (`wall`).
+                let (ur, uz) = (vr[i] - wall.vr, vz[i] - wall.vz);
+                pair_power += 2.0 * (image_acc[0] * ur + image_acc[1] * uz);
+                acc[0] += image_acc[0];
+                acc[1] += image_acc[1];
+                // The ring force is m a = 2π m̃_i · acc (a = acc/r_i).
+                let ring = TWO_PI * m_tilde[i];
+                *react = [ring * image_acc[0], ring * image_acc[1]];
+            }
             let hoop_r = -(s_tt[i] - p[i]) * hoop_weight[i] / (rho[i] * ri);
             *work = -pair_power / (2.0 * ri) - hoop_r * vr[i];
             *ar = acc[0] / ri + hoop_r;
@@ -209,6 +285,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
             *de = heat;
             *mu_out = mu_max;
         });
+    reaction
 }
 
 /// A velocity gradient (rr, rz, zr, zz) as a mirror ghost across the axis has it (`sign` −1):

@@ -29,6 +29,7 @@
 use rayon::prelude::*;
 
 use super::neighbours::CellGrid;
+use super::wall::Wall;
 use crate::state::{Particles, SphParams};
 
 const TWO_PI: f32 = 2.0 * std::f32::consts::PI;
@@ -54,10 +55,11 @@ pub fn hoop_rate(params: &SphParams, hoop_weight: f32, vr: f32, r: f32) -> f32 {
     }
 }
 
-pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
+pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams, walls: Option<&[Wall]>) {
     let h = params.h;
     let Particles {
         r,
+        z,
         vr,
         vz,
         mass,
@@ -86,6 +88,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
     let (r, rho, m_tilde, area, sound) = (&*r, &*rho, &*m_tilde, &*area, &*sound);
     let field = Field {
         r,
+        z,
         rho,
         m_tilde,
         area,
@@ -93,6 +96,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
         conjugate: params.conjugate_gradient,
         grid,
         kernel: &params.kernel,
+        walls,
     };
     let filtered;
     let (vr, vz): (&[f32], &[f32]) = if params.velocity_filter {
@@ -146,6 +150,7 @@ pub fn run(particles: &mut Particles, grid: &CellGrid, params: &SphParams) {
 /// What a gather over the particles reads besides the field gathered.
 pub(crate) struct Field<'a> {
     pub(super) r: &'a [f32],
+    pub(super) z: &'a [f32],
     pub(super) rho: &'a [f32],
     pub(super) m_tilde: &'a [f32],
     pub(super) area: &'a [f32],
@@ -155,6 +160,8 @@ pub(crate) struct Field<'a> {
     /// The neighbour list of the positions gathered at.
     pub(super) grid: &'a CellGrid,
     pub(super) kernel: &'a crate::kernel::Kernel,
+    /// Each particle's wall, whose images complete its kernel at the projectile (`wall`).
+    pub(super) walls: Option<&'a [Wall]>,
 }
 
 impl Field<'_> {
@@ -189,6 +196,29 @@ impl Field<'_> {
             m[2] -= area * nb.dz * gw[0];
             m[3] -= area * nb.dz * gw[1];
             weight += self.m_tilde[j] * (sign * ri + sign * rj - 2.0 * ri) * gw[0];
+        }
+        if let Some(wall) = self.walls.map(|w| w[i]).filter(|w| w.on()) {
+            wall.images(i, self.r, self.z, self.grid, self.kernel, |im| {
+                let j = im.j;
+                let area = if self.conjugate {
+                    self.area[j] * self.rho[j] / self.rho[i]
+                } else {
+                    self.area[j]
+                };
+                let (vrg, vzg) = wall.velocity(vr[j], vz[j]);
+                let (dvr, dvz) = (vrg - vr[i], vzg - vz[i]);
+                let gw = im.grad;
+                g[0] += area * dvr * gw[0];
+                g[1] += area * dvr * gw[1];
+                g[2] += area * dvz * gw[0];
+                g[3] += area * dvz * gw[1];
+                m[0] -= area * im.dr * gw[0];
+                m[1] -= area * im.dr * gw[1];
+                m[2] -= area * im.dz * gw[0];
+                m[3] -= area * im.dz * gw[1];
+                let rg = hoop_radius(im.r, self.h);
+                weight += self.m_tilde[j] * (rg - ri) * gw[0];
+            });
         }
         let l = if self.conjugate { g } else { correct(g, m) };
         (l, weight / self.rho[i])
@@ -253,6 +283,7 @@ pub fn kernel_readings(
     let area: Vec<f32> = m_tilde.iter().zip(&p.rho).map(|(m, rho)| m / rho).collect();
     let field = |conjugate| Field {
         r: &p.r,
+        z: &p.z,
         rho: &p.rho,
         m_tilde: &m_tilde,
         area: &area,
@@ -260,6 +291,7 @@ pub fn kernel_readings(
         conjugate,
         grid,
         kernel,
+        walls: None,
     };
     let (stepped, corrected) = (field(params.conjugate_gradient), field(false));
     which

@@ -27,6 +27,7 @@ pub mod state;
 pub mod step;
 pub mod timestep;
 pub mod traffic;
+pub mod walls;
 
 use std::sync::{Arc, Mutex};
 
@@ -623,8 +624,8 @@ impl Kernel {
 /// forty buffers; each read alone would be a round trip and a staging buffer.
 #[derive(Default)]
 pub struct ReadBatch<'a> {
-    /// Each part's buffer and the bytes read from its start.
-    parts: Vec<(&'a wgpu::Buffer, u64)>,
+    /// Each part's buffer, the byte it is read from and the bytes read.
+    parts: Vec<(&'a wgpu::Buffer, u64, u64)>,
 }
 
 /// A part of a [`ReadBatch`], to take its values from the [`Batched`] result.
@@ -650,8 +651,14 @@ impl<'a> ReadBatch<'a> {
 
     /// Read the first `count` elements of T from `buffer`.
     pub fn add<T: Pod>(&mut self, buffer: &'a wgpu::Buffer, count: usize) -> Part {
+        self.add_at::<T>(buffer, 0, count)
+    }
+
+    /// Read `count` elements of T from `buffer`, from its element `first` on.
+    pub fn add_at<T: Pod>(&mut self, buffer: &'a wgpu::Buffer, first: usize, count: usize) -> Part {
+        let size = std::mem::size_of::<T>();
         self.parts
-            .push((buffer, (count * std::mem::size_of::<T>()) as u64));
+            .push((buffer, (first * size) as u64, (count * size) as u64));
         Part(self.parts.len() - 1)
     }
 
@@ -663,7 +670,7 @@ impl<'a> ReadBatch<'a> {
         let max = gpu.limits.max_buffer_size;
         let mut placed = Vec::with_capacity(self.parts.len());
         let mut sizes: Vec<u64> = Vec::new();
-        for &(_, bytes) in &self.parts {
+        for &(_, _, bytes) in &self.parts {
             let last = sizes.len().wrapping_sub(1);
             match sizes.last_mut() {
                 Some(size) if *size + bytes <= max => {
@@ -687,9 +694,9 @@ impl<'a> ReadBatch<'a> {
                 })
             })
             .collect();
-        for (&(buffer, bytes), &(k, at)) in self.parts.iter().zip(&placed) {
+        for (&(buffer, from, bytes), &(k, at)) in self.parts.iter().zip(&placed) {
             if bytes > 0 {
-                encoder.copy_buffer_to_buffer(buffer, 0, &staging[k], at, bytes);
+                encoder.copy_buffer_to_buffer(buffer, from, &staging[k], at, bytes);
             }
         }
         gpu.queue.submit([encoder.finish()]);
@@ -720,7 +727,7 @@ impl<'a> ReadBatch<'a> {
             .parts
             .iter()
             .zip(&placed)
-            .map(|(&(_, bytes), &(k, at))| views[k][at as usize..(at + bytes) as usize].to_vec())
+            .map(|(&(_, _, bytes), &(k, at))| views[k][at as usize..(at + bytes) as usize].to_vec())
             .collect();
         drop(views);
         staging.iter().for_each(wgpu::Buffer::unmap);

@@ -367,7 +367,7 @@ pub(crate) mod tests {
         assert!(ghosts > 0, "the lists hold axis ghosts");
         // The areas for the gathers, as cpu::sph_rates::run computes them.
         let mut rates = p.clone();
-        crate::cpu::sph_rates::run(&mut rates, &cpu, &sph);
+        crate::cpu::sph_rates::run(&mut rates, &cpu, &sph, None);
         for (name, a, b) in [
             ("m_tilde", &built.m_tilde, &rates.m_tilde),
             ("area", &built.area, &rates.area),

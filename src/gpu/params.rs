@@ -33,13 +33,14 @@ macro_rules! uniform_block {
 }
 
 /// Every block's WGSL, for the shader prelude.
-pub const BLOCKS: [&str; 6] = [
+pub const BLOCKS: [&str; 7] = [
     KernelUniform::WGSL,
     SphUniform::WGSL,
     FemUniform::WGSL,
     StepUniform::WGSL,
     DtSlot::WGSL,
     ScanLevel::WGSL,
+    WallUniform::WGSL,
 ];
 
 uniform_block! {
@@ -270,5 +271,21 @@ uniform_block! {
     pub struct ScanLevel {
         /// Entries of `data` to scan.
         pub len: u32,
+    }
+}
+
+uniform_block! {
+    /// The wall images' passes (walls.wgsl): counts, the support, the mirror line's depth
+    /// inside the surface, how far the box test reaches past the support, and how far the
+    /// segments' sums look past a segment for its particles.
+    #[derive(Default)]
+    pub struct WallUniform {
+        pub n_particles: u32,
+        pub n_masters: u32,
+        pub n_elements: u32,
+        pub support: f32,
+        pub offset: f32,
+        pub box_margin: f32,
+        pub grow: f32,
     }
 }

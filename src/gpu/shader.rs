@@ -37,6 +37,8 @@ const DEVIATOR: Part = part!("deviator.wgsl");
 const HJC: Part = part!("hjc.wgsl");
 const JOHNSON_COOK: Part = part!("johnson_cook.wgsl");
 const STEEL_EOS: Part = part!("steel_eos.wgsl");
+const WALL: Part = part!("wall.wgsl");
+const WALL_IMAGES: Part = part!("wall_images.wgsl");
 
 /// The programs the solver builds: one per pass (or per pass stage), named as the pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,10 +54,11 @@ pub enum Program {
     Integrate,
     ContactDetect,
     History,
+    Walls,
 }
 
 impl Program {
-    pub const ALL: [Program; 11] = [
+    pub const ALL: [Program; 12] = [
         Program::Neighbours,
         Program::NeighbourList,
         Program::Scan,
@@ -67,6 +70,7 @@ impl Program {
         Program::Integrate,
         Program::ContactDetect,
         Program::History,
+        Program::Walls,
     ];
 
     /// The pass's name, as its kernels are labelled.
@@ -83,6 +87,7 @@ impl Program {
             Program::Integrate => "integrate",
             Program::ContactDetect => "contact_detect",
             Program::History => "history",
+            Program::Walls => "walls",
         }
     }
 
@@ -107,6 +112,7 @@ impl Program {
             Program::Integrate => &["main"],
             Program::ContactDetect => &["detect", "apply"],
             Program::History => &["reduce"],
+            Program::Walls => &["find", "sums"],
         }
     }
 
@@ -114,8 +120,8 @@ impl Program {
     /// compiled out).
     pub fn overrides(self) -> &'static [&'static str] {
         match self {
-            Program::SphRates => &["BALSARA", "CONJUGATE", "RECONSTRUCT"],
-            Program::SphForces => &["ART_STRESS", "BALSARA", "RECONSTRUCT"],
+            Program::SphRates => &["BALSARA", "CONJUGATE", "RECONSTRUCT", "IMAGES"],
+            Program::SphForces => &["ART_STRESS", "BALSARA", "RECONSTRUCT", "IMAGES"],
             Program::Concrete => &["CONJUGATE", "ART_STRESS"],
             Program::FemStress => &["DAMAGE"],
             _ => &[],
@@ -130,7 +136,17 @@ impl Program {
                 vec![PARAMS, GRID, NEIGHBOUR_LOOP, part!("neighbour_list.wgsl")]
             }
             Program::Scan => vec![part!("scan.wgsl")],
-            Program::SphRates => gather_parts(part!("sph_rates.wgsl")),
+            Program::SphRates => {
+                vec![
+                    PARAMS,
+                    GRID,
+                    GATHER_BINDINGS,
+                    NEIGHBOUR_LOOP,
+                    WALL,
+                    WALL_IMAGES,
+                    part!("sph_rates.wgsl"),
+                ]
+            }
             Program::SphFilter => gather_parts(part!("sph_filter.wgsl")),
             Program::SphForces => {
                 vec![
@@ -139,6 +155,8 @@ impl Program {
                     GRID,
                     GATHER_BINDINGS,
                     NEIGHBOUR_LOOP,
+                    WALL,
+                    WALL_IMAGES,
                     part!("sph_forces.wgsl"),
                 ]
             }
@@ -147,6 +165,7 @@ impl Program {
             Program::Integrate => step_parts(part!("integrate.wgsl")),
             Program::ContactDetect => step_parts(part!("contact_detect.wgsl")),
             Program::History => vec![part!("history.wgsl")],
+            Program::Walls => vec![PARAMS, GRID, WALL, part!("walls.wgsl")],
         }
     }
 
@@ -258,6 +277,7 @@ fn shared_constants() -> Vec<(&'static str, Value)> {
             F32(crate::cpu::fem_stress::CELL_MODE_STIFFNESS),
         ),
         ("ETA2", F32(crate::cpu::sph_forces::ETA2)),
+        ("NO_WALL", U32(crate::cpu::wall::NO_WALL)),
         (
             "MIN_CORRECTION_DET",
             F32(crate::cpu::sph_rates::MIN_CORRECTION_DET),

@@ -4,6 +4,7 @@ use super::neighbours::GpuGrid;
 use super::shader::Program;
 use super::state::GpuParticles;
 use super::timestep::DtSlots;
+use super::walls::WallBuffers;
 use super::{Gpu, GpuError, Kernel};
 use crate::state::SphParams;
 
@@ -29,6 +30,7 @@ impl SphForcesPass {
         clock: &wgpu::Buffer,
         slots: &DtSlots,
         params: &SphParams,
+        walls: &WallBuffers,
     ) -> Result<SphForcesPass, GpuError> {
         let constants = [
             (
@@ -40,6 +42,7 @@ impl SphForcesPass {
                 "RECONSTRUCT",
                 f64::from(u8::from(params.reconstruct_viscosity)),
             ),
+            ("IMAGES", f64::from(u8::from(walls.images))),
         ];
         let forces = gpu.kernel(Program::SphForces, "forces", &constants)?;
         let p = particles;
@@ -58,6 +61,8 @@ impl SphForcesPass {
             ("de_work", &p.de_work),
             ("clock", clock),
             ("l_visc", &p.l_visc),
+            ("walls", &walls.walls),
+            ("wall_force", &walls.wall_force),
         ];
         let buffers = [&grid.walk_bindings(&grid.kin)[..], &own].concat();
         let bind = |slot: u32| {
@@ -79,7 +84,7 @@ impl SphForcesPass {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::gpu::concrete::tests::{field_error, smoke, SMOKE_STEPS};
     use crate::gpu::neighbours::tests::upload_cpu_grid;
@@ -109,7 +114,7 @@ mod tests {
         let sph = sim.sph.expect("smoke has a target");
         let art_on = sph.art_stress_eps > 0.0;
         let mut cpu = sim.particles.clone();
-        crate::cpu::sph_forces::run(&mut cpu, &sim.grid, &sph);
+        crate::cpu::sph_forces::run(&mut cpu, &sim.grid, &sph, None);
 
         // The GPU starts from poisoned outputs, so whatever it does not write shows.
         let mut start = sim.particles.clone();
@@ -129,8 +134,18 @@ mod tests {
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, sph.h, lists);
         let clock = gpu.buffer("clock", &crate::gpu::timestep::clock_words(sim.dt, false));
         let slots = crate::gpu::timestep::DtSlots::new(&gpu);
-        let pass =
-            SphForcesPass::new(&gpu, &gp, &pairs, &grid, &uniform, &clock, &slots, &sph).unwrap();
+        let pass = SphForcesPass::new(
+            &gpu,
+            &gp,
+            &pairs,
+            &grid,
+            &uniform,
+            &clock,
+            &slots,
+            &sph,
+            &crate::gpu::sph_rates::tests::no_walls(&gpu),
+        )
+        .unwrap();
         run_once(&gpu, |p| pass.record(p, 1)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -212,8 +227,8 @@ mod tests {
             ..sph
         };
         let (mut with, mut without) = (sim.particles.clone(), sim.particles.clone());
-        crate::cpu::sph_forces::run(&mut with, &sim.grid, &sph);
-        crate::cpu::sph_forces::run(&mut without, &sim.grid, &raw);
+        crate::cpu::sph_forces::run(&mut with, &sim.grid, &sph, None);
+        crate::cpu::sph_forces::run(&mut without, &sim.grid, &raw, None);
         let change = field_error(&with.de_visc, &without.de_visc);
         eprintln!("reconstructed: de_visc moves by {change:e} of its scale");
         assert!(change > 1.0e-3, "the reconstruction changes nothing here");

@@ -4,6 +4,7 @@ use super::neighbours::GpuGrid;
 use super::shader::Program;
 use super::sph_filter::SphFilterPass;
 use super::state::GpuParticles;
+use super::walls::WallBuffers;
 use super::{Gpu, GpuError, Kernel};
 use crate::state::SphParams;
 
@@ -33,6 +34,7 @@ impl SphRatesPass {
         grid: &GpuGrid,
         sph_uniform: &wgpu::Buffer,
         params: &SphParams,
+        walls: &WallBuffers,
     ) -> Result<SphRatesPass, GpuError> {
         let switch = [
             ("BALSARA", f64::from(u8::from(params.balsara))),
@@ -41,6 +43,7 @@ impl SphRatesPass {
                 "RECONSTRUCT",
                 f64::from(u8::from(params.reconstruct_viscosity)),
             ),
+            ("IMAGES", f64::from(u8::from(walls.images))),
         ];
         let gradient = gpu.kernel(Program::SphRates, "gradient", &switch)?;
         let p = particles;
@@ -58,6 +61,7 @@ impl SphRatesPass {
                 ("visc_switch", &p.visc_switch),
                 ("hoop_weight", &p.hoop_weight),
                 ("l_visc", &p.l_visc),
+                ("walls", &walls.walls),
             ];
             gradient.bind(gpu, &[&grid.walk_bindings(kin)[..], &own].concat())
         };
@@ -89,12 +93,17 @@ impl SphRatesPass {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::gpu::concrete::tests::{field_error, smoke, smoke_run, SMOKE_STEPS};
     use crate::gpu::neighbours::tests::upload_cpu_grid;
     use crate::gpu::params::SphUniform;
     use crate::gpu::{run_once, test_gpu};
+
+    /// The placeholders of a scene without wall images.
+    pub(crate) fn no_walls(gpu: &Gpu) -> WallBuffers {
+        WallBuffers::new(gpu, 0, false).unwrap()
+    }
 
     /// One sph_rates pass agrees with cpu::sph_rates::run on the smoke state (a crater, the
     /// axis, free surfaces where the correction is skipped), walking the neighbour lists or,
@@ -104,7 +113,7 @@ mod tests {
         let sim = smoke(SMOKE_STEPS, overrides);
         let sph = sim.sph.expect("smoke has a target");
         let mut cpu = sim.particles.clone();
-        crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
+        crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph, None);
 
         // The GPU starts from poisoned outputs, so whatever it does not write shows; the areas
         // are the neighbours pass's (`pack`), here the CPU's at the same positions.
@@ -130,7 +139,7 @@ mod tests {
         let gp = GpuParticles::upload(&gpu, &start);
         let uniform = gpu.uniform("sph", &SphUniform::new(&sph, gp.len));
         let grid = upload_cpu_grid(&gpu, &start, &uniform, &sim.grid, sph.h, lists);
-        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph).unwrap();
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph, &no_walls(&gpu)).unwrap();
         run_once(&gpu, |p| pass.record(p)).unwrap();
         let mut back = start.clone();
         gp.download(&gpu, &mut back).unwrap();
@@ -170,7 +179,11 @@ mod tests {
 
     /// The velocity gradients and density rates of `gpu` against `cpu`, to 1e-5 of each
     /// field's scale.
-    fn check_gradients(label: &str, gpu: &crate::state::Particles, cpu: &crate::state::Particles) {
+    pub(crate) fn check_gradients(
+        label: &str,
+        gpu: &crate::state::Particles,
+        cpu: &crate::state::Particles,
+    ) {
         for (name, a, b) in [
             ("l_rr", &gpu.l_rr, &cpu.l_rr),
             ("l_rz", &gpu.l_rz, &cpu.l_rz),
@@ -225,8 +238,8 @@ mod tests {
         let mut off = sph;
         assert!(plain(&mut off), "{set:?} is not on");
         let (mut without, mut with) = (sim.particles.clone(), sim.particles.clone());
-        crate::cpu::sph_rates::run(&mut without, &sim.grid, &off);
-        crate::cpu::sph_rates::run(&mut with, &sim.grid, &sph);
+        crate::cpu::sph_rates::run(&mut without, &sim.grid, &off, None);
+        crate::cpu::sph_rates::run(&mut with, &sim.grid, &sph, None);
         let change = field_error(&with.l_zz, &without.l_zz);
         eprintln!("{set:?}: L_zz moves by {change:e} of its scale");
         assert!(change > 1.0e-3, "{set:?} changes nothing here");
@@ -307,9 +320,9 @@ mod tests {
         );
 
         let mut cpu = now.clone();
-        crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph);
+        crate::cpu::sph_rates::run(&mut cpu, &sim.grid, &sph, None);
         gp.write(&gpu, &now);
-        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph).unwrap();
+        let pass = SphRatesPass::new(&gpu, &gp, &grid, &uniform, &sph, &no_walls(&gpu)).unwrap();
         // The displacement watch is the integration's: one of Δt = 0 leaves every particle
         // where it is.
         let step = gpu.uniform(

@@ -4,12 +4,15 @@
 use super::{Batched, Gpu, GpuError, Part, ReadBatch};
 use crate::state::{Elements, Nodes, Particles};
 
-/// Declares a struct of buffers mirroring a CPU struct's fields, with upload and download.
+/// Declares a struct of buffers mirroring a CPU struct's fields, with upload and download; the
+/// `fixed` fields, which no pass changes, are uploaded and never read back.
 macro_rules! mirror {
-    ($name:ident, $cpu:ty, len = $len:ident, [$($field:ident: $t:ty),* $(,)?]) => {
+    ($name:ident, $cpu:ty, len = $len:ident, [$($field:ident: $t:ty),* $(,)?]
+     $(, fixed [$($fixed:ident: $ft:ty),* $(,)?])?) => {
         pub struct $name {
             pub len: usize,
             $(pub $field: wgpu::Buffer,)*
+            $($(pub $fixed: wgpu::Buffer,)*)?
         }
 
         impl $name {
@@ -17,10 +20,11 @@ macro_rules! mirror {
                 $name {
                     len: s.$len.len(),
                     $($field: gpu.buffer::<$t>(concat!(stringify!($name), ".", stringify!($field)), &s.$field),)*
+                    $($($fixed: gpu.buffer::<$ft>(concat!(stringify!($name), ".", stringify!($fixed)), &s.$fixed),)*)?
                 }
             }
 
-            /// Overwrite every field on the GPU with the CPU values (same lengths).
+            /// Overwrite every changing field on the GPU with the CPU values (same lengths).
             pub fn write(&self, gpu: &Gpu, s: &$cpu) {
                 $(gpu.write::<$t>(&self.$field, &s.$field);)*
             }
@@ -62,6 +66,9 @@ mirror!(GpuParticles, Particles, len = r, [
 
 mirror!(GpuNodes, Nodes, len = r, [
     r: f32, z: f32, vr: f32, vz: f32, fr: f32, fz: f32, mass: f32, on_axis: u32,
+], fixed [
+    // With wall images the GPU's CSR also names the master segments' reactions
+    // (`cpu::wall::csr`), so it is not the host's.
     elem_offsets: u32, elem_refs: u32,
 ]);
 

@@ -43,6 +43,7 @@ use super::profiler::Profiler;
 use super::state::{GpuElements, GpuNodes, GpuParticles};
 use super::timestep::{DtSlots, DT_FROM_CLOCK};
 use super::traffic::{Charge, Tally, Traffic};
+use super::walls::{WallBuffers, WallsPass, WallsSetup};
 use super::ReadBatch;
 use super::{Gpu, GpuError};
 use crate::pass::Pass;
@@ -77,6 +78,9 @@ struct SphPasses {
     forces: super::sph_forces::SphForcesPass,
     contact: Option<ContactPass>,
     history: super::history::HistoryPass,
+    /// The wall images' buffers (placeholders without them) and passes (`contact.kernel`).
+    _wall_buffers: WallBuffers,
+    walls: Option<WallsPass>,
 }
 
 pub struct GpuStep {
@@ -150,14 +154,16 @@ pub struct HostSeconds {
 
 /// The step's passes in recording order, as the profiler names its intervals (`fem_forces`'
 /// is empty on the GPU, where the integration gathers the nodal forces).
-pub const PROFILED: [&str; 9] = [
+pub const PROFILED: [&str; 11] = [
     "contact_apply",
     "neighbours",
+    "walls",
     "sph_rates",
     "concrete",
     "sph_forces",
     "fem_stress",
     "fem_forces",
+    "wall_forces",
     "integrate",
     "contact_detect",
 ];
@@ -186,6 +192,10 @@ pub struct StepSetup<'a> {
     pub fem_limited: bool,
     /// The neighbour lists' skin as a fraction of the support (`LIST_SKIN`; 0: every step).
     pub list_skin: f32,
+    /// With wall images (the pass list has `Pass::Walls`): the mirror line's depth inside the
+    /// surface (m) and the master segments' last sums (`Model::walls`), which the first
+    /// integration gathers.
+    pub walls: Option<(f32, &'a [[f32; 4]])>,
 }
 
 impl GpuStep {
@@ -204,8 +214,24 @@ impl GpuStep {
                 gpu.limits.max_compute_workgroups_per_dimension
             )));
         }
-        let nodes = GpuNodes::upload(&gpu, &s.projectile.nodes);
-        let elements = GpuElements::upload(&gpu, &s.projectile.elements);
+        let images = s.passes.contains(&Pass::Walls);
+        let mut nodes = GpuNodes::upload(&gpu, &s.projectile.nodes);
+        let mut elements = GpuElements::upload(&gpu, &s.projectile.elements);
+        let masters = &s.projectile.masters;
+        if images {
+            // The segments' reactions are force entries past the elements' (`walls::csr`).
+            let n_e = s.projectile.elements.len();
+            let (offsets, refs) = super::walls::csr(&s.projectile.nodes, n_e, masters);
+            nodes.elem_offsets = gpu.buffer("node CSR with the walls", &offsets);
+            nodes.elem_refs = gpu.buffer("node CSR refs with the walls", &refs);
+            let sums = s.walls.map_or(&[][..], |w| w.1);
+            let mut force = s.projectile.elements.force.clone();
+            force.extend((0..masters.len()).map(|m| {
+                let v = sums.get(m).copied().unwrap_or_default();
+                [-v[0], -v[1], -v[2], -v[3], 0.0, 0.0]
+            }));
+            elements.force = gpu.buffer("nodal forces with the walls", &force);
+        }
         let (h, alpha, beta) = s
             .particles
             .map_or((0.0, 0.0, 0.0), |(_, sp)| (sp.h, sp.alpha, sp.beta));
@@ -251,12 +277,14 @@ impl GpuStep {
                     capacity,
                     support * (1.0 + s.list_skin),
                 )?;
+                let wall_buffers = WallBuffers::new(&gpu, p.len(), images)?;
                 let rates = super::sph_rates::SphRatesPass::new(
                     &gpu,
                     &particles,
                     &grid,
                     &sph_uniform,
                     params,
+                    &wall_buffers,
                 )?;
                 let concrete = super::concrete::ConcretePass::new(
                     &gpu,
@@ -274,6 +302,7 @@ impl GpuStep {
                     &clock,
                     &slots,
                     params,
+                    &wall_buffers,
                 )?;
                 let contact = if contact {
                     Some(ContactPass::new(
@@ -287,6 +316,27 @@ impl GpuStep {
                     )?)
                 } else {
                     None
+                };
+                let walls = match (&contact, images) {
+                    (Some(c), true) => Some(WallsPass::new(
+                        &gpu,
+                        &WallsSetup {
+                            buffers: &wall_buffers,
+                            grid: &grid,
+                            nodes: &nodes,
+                            force: &elements.force,
+                            masters,
+                            clock: &clock,
+                            n_particles: p.len(),
+                            n_elements: s.projectile.elements.len(),
+                            box_keys: &c.box_keys,
+                            slots: &slots,
+                            support,
+                            offset: s.walls.map_or(0.0, |w| w.0),
+                            list_radius: support * (1.0 + s.list_skin),
+                        },
+                    )?),
+                    _ => None,
                 };
                 uniforms.push(sph_uniform);
                 let history = super::history::HistoryPass::new(
@@ -304,6 +354,8 @@ impl GpuStep {
                     forces,
                     contact,
                     history,
+                    _wall_buffers: wall_buffers,
+                    walls,
                 })
             }
             None => None,
@@ -503,8 +555,19 @@ impl GpuStep {
                 (Pass::Neighbours, Some(s), _) => s.neighbours.record(pass, build),
                 (Pass::SphRates, Some(s), _) => s.rates.record(pass),
                 (Pass::Concrete, Some(s), _) => s.concrete.record(pass),
+                // The box is the last integration's, of the parity before this one.
+                (Pass::Walls, Some(s), _) => {
+                    if let Some(w) = &s.walls {
+                        w.record_find(pass, 1 - self.dt_slot)
+                    }
+                }
                 (Pass::SphForces, Some(s), _) => s.forces.record(pass, self.dt_slot),
                 (Pass::FemStress, _, Some(f)) => f.stress.record(pass, self.dt_slot),
+                (Pass::WallForces, Some(s), _) => {
+                    if let Some(w) = &s.walls {
+                        w.record_sums(pass)
+                    }
+                }
                 // The integration gathers the nodal forces (integrate.wgsl).
                 (Pass::FemForces, _, Some(_)) => {}
                 // A pass is built exactly when it is in the list (`new`).

@@ -320,6 +320,28 @@ pub struct ContactSpec {
     pub slave_radius_factor: f64,
     /// Coulomb friction coefficient μ at the sliding surface (0 = frictionless, as the paper).
     pub friction: f64,
+    /// How the concrete's kernel meets the projectile's surface.
+    pub kernel: SurfaceKernel,
+}
+
+/// `contact.kernel`: what the concrete particles lining the projectile have on its side of
+/// their kernel (docs/physics.md §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceKernel {
+    /// Nothing: the kernel is cut at the surface, as the paper has it.
+    Cut,
+    /// Mirror images of the particle and its neighbours across the surface's tangent, which
+    /// complete it; what they exert the projectile takes back at the foot (`cpu::wall`).
+    Images,
+}
+
+impl SurfaceKernel {
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceKernel::Cut => "cut",
+            SurfaceKernel::Images => "images",
+        }
+    }
 }
 
 /// `[wall]`

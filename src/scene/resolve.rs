@@ -9,8 +9,8 @@ use super::parse::{Given, Val};
 use super::schema::{self as k, DefaultValue, Key, Ty};
 use super::{
     approx, num, render, Backend, CavitySpec, ContactSpec, ProjectileShape, ProjectileSpec,
-    RunControl, Scene, SceneError, TargetSpec, TensionModel, VelocityFilter, VelocityGradient,
-    ViscosityJump, ViscositySwitch, WallSpec,
+    RunControl, Scene, SceneError, SurfaceKernel, TargetSpec, TensionModel, VelocityFilter,
+    VelocityGradient, ViscosityJump, ViscositySwitch, WallSpec,
 };
 use crate::materials::hjc::Hjc;
 
@@ -285,10 +285,24 @@ fn resolve_contact(c: &Check) -> Result<ContactSpec, SceneError> {
     let lambda = c.num(&k::CONTACT_LAMBDA)?;
     let slave_radius_factor = c.num(&k::CONTACT_SLAVE_RADIUS_FACTOR)?;
     let friction = c.num(&k::CONTACT_FRICTION)?;
+    let kernel = match c.choice(&k::CONTACT_KERNEL)? {
+        "cut" => SurfaceKernel::Cut,
+        _ => SurfaceKernel::Images,
+    };
+    // The images' reaction acts on the nodes at their feet, which a rigid projectile (moved
+    // only by the contact's global shift) has no way to take.
+    if kernel == SurfaceKernel::Images && lambda == 0.0 {
+        return Err(c.conflict(
+            &[k::CONTACT_KERNEL.path, k::CONTACT_LAMBDA.path],
+            "the images' reaction needs a deformable projectile: set contact.lambda > 0, or \
+             contact.kernel = \"cut\" for the rigid limit",
+        ));
+    }
     Ok(ContactSpec {
         lambda,
         slave_radius_factor,
         friction,
+        kernel,
     })
 }
 

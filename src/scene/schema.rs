@@ -723,6 +723,13 @@ schema! {
         help: "Coulomb friction coefficient μ at the sliding surface: a slave's tangential \
                impulse is at most μ times its normal one (0 = frictionless, as the paper)",
         show: |s| number(s.contact.friction) }
+    CONTACT_KERNEL = "contact.kernel" {
+        ty: Ty::Choice { names: &["cut", "images"], quoted: true },
+        default: DefaultValue::Text("cut"),
+        help: "What completes the kernel of the concrete lining the projectile: \"cut\" \
+               (nothing, as the paper) or \"images\" (mirror images across the surface, whose \
+               reaction the projectile takes); \"images\" needs contact.lambda > 0",
+        show: |s| Some(Text(s.contact.kernel.name().into())) }
 
     WALL_Z = "wall.z" { unit: "m", help: "The wall's plane z = wall.z",
         show: |s| s.wall.as_ref().and_then(|w| number(w.z)) }

@@ -2,7 +2,7 @@
 //! backend asked for.
 
 use super::gpu_step::GpuStepper;
-use super::{Account, Model, RunError, Simulation};
+use super::{Account, Model, Pass, RunError, Simulation};
 use crate::cpu::neighbours::CellGrid;
 use crate::gpu::step::{GpuStep, StepSetup};
 use crate::mesh;
@@ -56,7 +56,13 @@ impl Model {
             .filter(|&i| particles.r[i as usize] <= k * r_max)
             .collect();
         let rigid = scene.contact.lambda == 0.0 && scene.wall.is_none();
-        let passes = crate::pass::for_scene(sph.is_some(), !rigid);
+        let images = scene.contact.kernel == crate::scene::SurfaceKernel::Images;
+        let passes = crate::pass::for_scene(sph.is_some(), !rigid, images);
+        let walls = super::Walls {
+            offset: crate::cpu::wall::OFFSET_SPACINGS
+                * scene.target.as_ref().map_or(0.0, |t| t.spacing as f32),
+            ..Default::default()
+        };
         let extent = scene
             .target
             .as_ref()
@@ -72,6 +78,7 @@ impl Model {
             projectile,
             fem,
             slaves,
+            walls,
             passes,
             time: 0.0,
             step: 0,
@@ -119,6 +126,10 @@ impl Simulation {
             dt: m.dt,
             fem_limited: m.fem_limited,
             list_skin: crate::gpu::step::LIST_SKIN,
+            walls: m
+                .passes
+                .contains(&Pass::Walls)
+                .then_some((m.walls.offset, &m.walls.sums[..])),
         };
         let step =
             GpuStep::new(gpu, &setup).map_err(|error| RunError::Gpu { error, when: None })?;
@@ -127,6 +138,7 @@ impl Simulation {
         self.stepper = Box::new(GpuStepper {
             step: Box::new(step),
             base,
+            wall_booked: (0.0, 0.0),
         });
         Ok(())
     }

@@ -351,6 +351,9 @@ impl Restart {
         if let Some(why) = self.misfit(model) {
             return Err(self.refused(Refusal::OtherModel(why)));
         }
+        if model.passes.contains(&super::Pass::Walls) {
+            return Err(self.refused(Refusal::Images));
+        }
         let s = &mut self.checkpoint.state;
         model.particles = std::mem::take(&mut s.particles);
         model.projectile.nodes = std::mem::take(&mut s.nodes);
@@ -507,6 +510,8 @@ pub enum Refusal {
     Frames { written: bool },
     /// The `history.csv` it continues is not in the output folder as it was.
     History(String),
+    /// The scene has wall images, whose last reaction on the nodes the file does not hold.
+    Images,
 }
 
 impl fmt::Display for Refusal {
@@ -554,6 +559,11 @@ impl fmt::Display for Refusal {
             Refusal::Frames { written: false } => write!(
                 f,
                 "is of a run started with --no-vtk: restart it with --no-vtk"
+            ),
+            Refusal::Images => write!(
+                f,
+                "cannot continue a run with contact.kernel = \"images\": the images' last \
+                 reaction on the projectile is not in the file; run the scene from the start"
             ),
             Refusal::History(why) => write!(
                 f,

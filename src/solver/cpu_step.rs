@@ -79,6 +79,15 @@ impl Model {
     /// Velocities and positions of the particles and the nodes over `dt`, with what the fixed
     /// boundary and the wall exert booked in the account.
     fn integrate(&mut self, dt: f32) -> Result<(), RunError> {
+        // The wall images' reaction acts on the nodes over this step: the concrete's push on
+        // the projectile through its surface, booked with the contact's.
+        for (m, s) in self.walls.sums.iter().enumerate() {
+            let impulse = (-s[1] - s[3]) as f64 * dt as f64;
+            self.account.contact_impulse += impulse;
+            if self.on_nose[m] {
+                self.account.nose_impulse += impulse;
+            }
+        }
         let origin = self.scene.origin_z();
         let blowup = |b: cpu::integrate::Blowup, when: When| {
             RunError::from(Instability {
@@ -121,13 +130,28 @@ impl Model {
         let origin = self.scene.origin_z();
         for pass in self.passes.iter().filter(|p| p.is_force()) {
             let (p, n, sph) = (&mut self.particles, &mut self.projectile, self.sph.as_ref());
+            let w = &mut self.walls;
             match (pass, sph) {
                 (Pass::Neighbours, Some(sph)) => {
                     cpu::neighbours::run(&mut self.grid, &p.r, &p.z, &sph.kernel)
                 }
-                (Pass::SphRates, Some(sph)) => cpu::sph_rates::run(p, &self.grid, sph),
+                (Pass::Walls, Some(sph)) => {
+                    let support = sph.kernel.support();
+                    cpu::wall::find(
+                        &mut w.walls,
+                        &p.r,
+                        &p.z,
+                        &n.nodes,
+                        &n.masters,
+                        support,
+                        w.offset,
+                    )
+                }
+                (Pass::SphRates, Some(sph)) => cpu::sph_rates::run(p, &self.grid, sph, w.found()),
                 (Pass::Concrete, Some(sph)) => cpu::concrete::run(p, sph, dt),
-                (Pass::SphForces, Some(sph)) => cpu::sph_forces::run(p, &self.grid, sph),
+                (Pass::SphForces, Some(sph)) => {
+                    w.reaction = cpu::sph_forces::run(p, &self.grid, sph, w.found())
+                }
                 (Pass::FemStress, _) => {
                     cpu::fem_stress::run(&mut n.elements, &n.nodes, &self.fem, dt).map_err(
                         |inv| {
@@ -150,6 +174,10 @@ impl Model {
                         .sum::<f64>();
                 }
                 (Pass::FemForces, _) => cpu::fem_forces::run(&mut n.nodes, &n.elements),
+                (Pass::WallForces, _) => {
+                    w.sums = cpu::wall::segment_sums(&w.walls, &w.reaction, n.masters.len());
+                    cpu::wall::react(&mut n.nodes, &n.masters, &w.sums);
+                }
                 // The target's passes of a scene without one are never in its list.
                 _ => {}
             }

@@ -13,6 +13,9 @@ pub struct GpuStepper {
     pub(super) step: Box<GpuStep>,
     /// The account when the GPU took over (its accumulators add to it).
     pub(super) base: Account,
+    /// The wall images' z-impulse booked so far from the GPU's accumulators, in all and on the
+    /// nose (the host books the correction's each step, so the images' is added as it grows).
+    pub(super) wall_booked: (f64, f64),
 }
 
 impl Stepper for GpuStepper {
@@ -32,6 +35,18 @@ impl Stepper for GpuStepper {
         sim.account.boundary_impulse = base.boundary_impulse + t.boundary_impulse;
         sim.account.wall_dissipated = base.wall_dissipated + t.wall_lost;
         sim.account.plastic_work = base.plastic_work + t.plastic_work;
+        if let Some(per_segment) = &t.wall_impulse {
+            let total: f64 = per_segment.iter().map(|&x| x as f64).sum();
+            let nose: f64 = per_segment
+                .iter()
+                .zip(&sim.on_nose)
+                .filter(|(_, &on)| on)
+                .map(|(&x, _)| x as f64)
+                .sum();
+            sim.account.contact_impulse += total - self.wall_booked.0;
+            sim.account.nose_impulse += nose - self.wall_booked.1;
+            self.wall_booked = (total, nose);
+        }
         sim.dt = t.next_dt;
         sim.reduced = t.particles;
         Ok(())

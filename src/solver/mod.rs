@@ -111,6 +111,24 @@ enum Fresh {
     Full,
 }
 
+/// What the wall images of a step leave (`cpu::wall`): empty without them.
+#[derive(Clone, Debug, Default)]
+pub struct Walls {
+    pub walls: Vec<crate::cpu::wall::Wall>,
+    pub reaction: Vec<[f32; 2]>,
+    pub sums: Vec<[f32; 4]>,
+    /// The mirror line's depth inside the surface (m): `wall::OFFSET_SPACINGS` spacings.
+    pub offset: f32,
+}
+
+impl Walls {
+    /// The walls, once the `walls` pass has found them (it runs exactly in scenes with images,
+    /// before the gathers).
+    pub fn found(&self) -> Option<&[crate::cpu::wall::Wall]> {
+        (!self.walls.is_empty()).then_some(&self.walls[..])
+    }
+}
+
 /// The meshes, the state and the pass list: what a [`Stepper`] advances and the outputs read.
 pub struct Model {
     pub scene: Scene,
@@ -121,6 +139,9 @@ pub struct Model {
     pub fem: FemParams,
     /// Slave particles (preselected once, physics.md §4).
     pub slaves: Vec<u32>,
+    /// With `contact.kernel = "images"`: each particle's wall, the ring force its images exert
+    /// on it, and those forces' sums per master segment (`cpu::wall`), the step's last.
+    pub walls: Walls,
     pub passes: Vec<Pass>,
     pub time: f64,
     pub step: u64,

@@ -132,7 +132,7 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
 fn pair_forces(p: &Particles, grid: &CellGrid, sph: &SphParams) -> (Particles, Particles) {
     let forces = |params: &SphParams| {
         let mut q = p.clone();
-        crate::cpu::sph_forces::run(&mut q, grid, params);
+        crate::cpu::sph_forces::run(&mut q, grid, params, None);
         q
     };
     let dry = SphParams {

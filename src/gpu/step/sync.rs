@@ -80,6 +80,11 @@ impl GpuStep {
             .fem
             .as_ref()
             .map(|_| self.elements.queue(&mut batch, &projectile.elements));
+        // The segments' reactions, past the elements' forces (`walls::csr`).
+        let n_m = projectile.masters.len();
+        let walls = self.sph.as_ref().and_then(|s| s.walls.as_ref());
+        let wall_sums = walls.map(|_| batch.add_at::<[f32; 6]>(&self.elements.force, n_e, n_m));
+        let wall_impulse = walls.map(|w| batch.add::<f32>(&w.impulse, n_m));
         let clock = batch.add::<u32>(&self.clock, (CLOCK_SLOTS / 4 + 4) as usize);
         let node_impulse = batch.add::<f32>(&self.acc.node_impulse, n_n);
         let node_lost = batch.add::<f32>(&self.acc.node_lost, n_n);
@@ -112,10 +117,20 @@ impl GpuStep {
             // host's are the same gather, in the same order, of the forces just read.
             crate::cpu::fem_forces::run(&mut projectile.nodes, &projectile.elements);
         }
+        if let Some(part) = wall_sums {
+            let sums: Vec<[f32; 4]> = read
+                .take::<[f32; 6]>(part)
+                .iter()
+                .map(|f| [-f[0], -f[1], -f[2], -f[3]])
+                .collect();
+            crate::cpu::wall::react(&mut projectile.nodes, &projectile.masters, &sums);
+        }
+        let wall_impulse = wall_impulse.map(|part| read.take::<f32>(part));
         let totals = Totals {
             boundary_impulse: particle_impulse + sum(node_impulse),
             particles: reduced,
             wall_lost: sum(node_lost),
+            wall_impulse,
             plastic_work: sum(plastic),
             next_dt: self.next_dt(&read.take::<u32>(clock)),
         };
@@ -155,13 +170,16 @@ enum Reads {
 }
 
 /// Sums the host takes from the GPU's per-entity accumulators.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Totals {
     /// The particles' part of a history row as the GPU reduced it (`Sync::History`); `None`
     /// when the host's particles were read whole.
     pub particles: Option<ParticleTotals>,
     pub boundary_impulse: f64,
     pub wall_lost: f64,
+    /// With wall images: per master segment, the z-impulse their reaction gave the projectile
+    /// since the GPU took over (N s).
+    pub wall_impulse: Option<Vec<f32>>,
     pub plastic_work: f64,
     pub next_dt: f32,
 }

@@ -236,7 +236,7 @@ fn batched_reads_match_reads_one_by_one() {
 /// the second half, then the first half (the next step's).
 #[test]
 fn every_recorded_pass_has_its_profiler_slot_in_order() {
-    let all = pass::for_scene(true, true);
+    let all = pass::for_scene(true, true, true);
     let slots: Vec<u32> = all
         .iter()
         .filter(|p| p.is_force())
