@@ -96,25 +96,25 @@ fn reconstructed_jump(vx: f32, x: vec2<f32>, li: vec4<f32>, lj: vec4<f32>) -> f3
     return 0.0;
 }
 
-// The pair term of neighbour j (its mirror image when sign = −1) at separation d = x_i − x_j.
-fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
+// One pair's term, a neighbour's (or its axis ghost's) or an image's (sph_forces.rs `term`):
+// partner j at separation d = x_i − x_j with its stress s_j/ρ² in the pair's frame, ring
+// weights w_i and w_j, radius r_j in the viscosity's mean and velocity v_j in the pair's frame;
+// its artificial stress and gradient are taken into the same frame here, where they are used
+// (mirrored across the axis when sign = −1, reflected across `wall` when `image`). Folds the
+// pair's μ into mu_max and its heating into heat; returns the pair's acceleration term.
+fn pair_term(g: ptr<function, Gather>, j: u32, d: vec2<f32>, dist: f32, s_j: vec3<f32>,
+             w_i: f32, w_j: f32, r_j: f32, v_j: vec2<f32>, sign: f32, wall: Wall,
+             image: bool) -> vec2<f32> {
     let h = u.kernel.h;
     let pj = pair_s[j];
     let mj = pj.w;
     let gw = kernel_grad(u.kernel, d, dist);
     let si = (*g).s;
-    let sj = pj.xyz;
-    let kj = kin[j];
     let ri = (*g).ri;
-    let rj = hoop_radius(kj.x, h);
-    // w = ±r: a mirror ghost pair is weighted −r on both sides.
-    let wi = sign * ri;
-    let wj = sign * rj;
-    var t = vec3<f32>(wi * si.x + wj * sj.x, wi * si.y + wj * sj.y, wi * si.z + wj * sign * sj.z);
-
-    let vj = kj.zw;
-    let dvr = (*g).v.x - sign * vj.x;
-    let dvz = (*g).v.y - vj.y;
+    var t = vec3<f32>(w_i * si.x + w_j * s_j.x, w_i * si.y + w_j * s_j.y,
+        w_i * si.z + w_j * s_j.z);
+    let dvr = (*g).v.x - v_j.x;
+    let dvz = (*g).v.y - v_j.y;
     let vx = dvr * d.x + dvz * d.y;
     if (vx < 0.0) {
         // The time step allows for the raw jump.
@@ -123,14 +123,18 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     var jump = vx;
     if (RECONSTRUCT && vx < 0.0) {
         let lj = l_visc[j];
-        jump = reconstructed_jump(vx, d, (*g).l, vec4<f32>(lj.x, sign * lj.y, sign * lj.z, lj.w));
+        var l_seen = vec4<f32>(lj.x, sign * lj.y, sign * lj.z, lj.w);
+        if (image) {
+            l_seen = wall_gradient(wall, lj);
+        }
+        jump = reconstructed_jump(vx, d, (*g).l, l_seen);
     }
     if (jump < 0.0) {
         let mu = h * jump / (dist * dist + ETA2 * h * h);
         let cj = pair_c[j];
         let c_mean = 0.5 * ((*g).sound + cj.x);
         let rho_mean = 0.5 * ((*g).rho + cj.y);
-        var pi = 0.5 * (ri + rj) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
+        var pi = 0.5 * (ri + r_j) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
         if (BALSARA) {
             pi *= 0.5 * ((*g).visc_switch + cj.z);
         }
@@ -140,63 +144,41 @@ fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, 
     }
     if (ART_STRESS) {
         let ri_art = (*g).art;
-        let rj_art = vec3_of(art_stress[j]);
+        let a = vec3_of(art_stress[j]);
+        var rj_art = vec3<f32>(a.x, a.y, sign * a.z);
+        if (image) {
+            rj_art = wall_tensor(wall, a);
+        }
         let f = pow(max(kernel_w(u.kernel, dist) / u.w_spacing, POW_BASE_FLOOR), u.art_stress_n);
-        t.x += f * (wi * ri_art.x + wj * rj_art.x);
-        t.y += f * (wi * ri_art.y + wj * rj_art.y);
-        t.z += f * (wi * ri_art.z + wj * sign * rj_art.z);
+        t.x += f * (w_i * ri_art.x + w_j * rj_art.x);
+        t.y += f * (w_i * ri_art.y + w_j * rj_art.y);
+        t.z += f * (w_i * ri_art.z + w_j * rj_art.z);
     }
-    let pair = vec2<f32>(mj * (t.x * gw.x + t.z * gw.y), mj * (t.z * gw.x + t.y * gw.y));
-    (*g).acc += pair;
-    (*g).pair_power += pair.x * dvr + pair.y * dvz;
+    return vec2<f32>(mj * (t.x * gw.x + t.z * gw.y), mj * (t.z * gw.x + t.y * gw.y));
 }
 
-// The image of neighbour j (of i itself when j = i) across i's wall w, at d = x_i − x_image
-// (sph_forces.rs's image loop, in its order of operations): w = r on both sides.
+// The pair term of neighbour j (its mirror image when sign = −1) at separation d = x_i − x_j:
+// w = ±r, a mirror ghost pair weighted −r on both sides, its shear stress and radial velocity
+// reversed.
+fn neighbour(g: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
+    let sj = pair_s[j].xyz;
+    let kj = kin[j];
+    let rj = hoop_radius(kj.x, u.kernel.h);
+    let vj = vec2<f32>(sign * kj.z, kj.w);
+    let pair = pair_term(g, j, d, dist, vec3<f32>(sj.x, sj.y, sign * sj.z), sign * (*g).ri,
+        sign * rj, rj, vj, sign, no_wall(), false);
+    (*g).acc += pair;
+    (*g).pair_power += pair.x * ((*g).v.x - vj.x) + pair.y * ((*g).v.y - vj.y);
+}
+
+// The image of neighbour j (of i itself when j = i) across i's wall w, at d = x_i − x_image:
+// w = r on both sides, the source's stress reflected, its velocity mirrored in the wall's frame.
 fn image(g: ptr<function, Gather>, i: u32, j: u32, w: Wall, d: vec2<f32>, dist: f32,
          r_image: f32) {
-    let h = u.kernel.h;
-    let pj = pair_s[j];
-    let mj = pj.w;
-    let gw = kernel_grad(u.kernel, d, dist);
-    let si = (*g).s;
-    let sg = wall_tensor(w, pj.xyz);
-    let ri = (*g).ri;
-    let rg = hoop_radius(r_image, h);
-    var t = vec3<f32>(ri * si.x + rg * sg.x, ri * si.y + rg * sg.y, ri * si.z + rg * sg.z);
+    let rg = hoop_radius(r_image, u.kernel.h);
+    let sg = wall_tensor(w, pair_s[j].xyz);
     let vg = wall_velocity(w, kin[j].zw);
-    let dvr = (*g).v.x - vg.x;
-    let dvz = (*g).v.y - vg.y;
-    let vx = dvr * d.x + dvz * d.y;
-    if (vx < 0.0) {
-        (*g).mu_max = max((*g).mu_max, -h * vx / (dist * dist + ETA2 * h * h));
-    }
-    var jump = vx;
-    if (RECONSTRUCT && vx < 0.0) {
-        jump = reconstructed_jump(vx, d, (*g).l, wall_gradient(w, l_visc[j]));
-    }
-    if (jump < 0.0) {
-        let mu = h * jump / (dist * dist + ETA2 * h * h);
-        let cj = pair_c[j];
-        let c_mean = 0.5 * ((*g).sound + cj.x);
-        let rho_mean = 0.5 * ((*g).rho + cj.y);
-        var pi = 0.5 * (ri + rg) * (-u.alpha * c_mean * mu + u.beta * mu * mu) / rho_mean;
-        if (BALSARA) {
-            pi *= 0.5 * ((*g).visc_switch + cj.z);
-        }
-        t.x -= pi;
-        t.y -= pi;
-        (*g).heat += 0.5 * mj * pi * (dvr * gw.x + dvz * gw.y) / ri;
-    }
-    if (ART_STRESS) {
-        let ri_art = (*g).art;
-        let rg_art = wall_tensor(w, vec3_of(art_stress[j]));
-        let f = pow(max(kernel_w(u.kernel, dist) / u.w_spacing, POW_BASE_FLOOR), u.art_stress_n);
-        t.x += f * (ri * ri_art.x + rg * rg_art.x);
-        t.y += f * (ri * ri_art.y + rg * rg_art.y);
-        t.z += f * (ri * ri_art.z + rg * rg_art.z);
-    }
-    (*g).image_acc += vec2<f32>(mj * (t.x * gw.x + t.z * gw.y), mj * (t.z * gw.x + t.y * gw.y));
+    (*g).image_acc += pair_term(g, j, d, dist, sg, (*g).ri, rg, rg, vg, 1.0, w, true);
 }
 
 // Per particle: the gather over neighbours and axis ghosts (neighbour_loop.wgsl), then the

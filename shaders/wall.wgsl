@@ -15,6 +15,11 @@ struct Wall {
     pad: f32,
 }
 
+// A particle without a wall.
+fn no_wall() -> Wall {
+    return Wall(NO_WALL, 0u, 0u, 0.0, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0);
+}
+
 // wall.rs `velocity`: v mirrored in the wall's frame.
 fn wall_velocity(w: Wall, v: vec2<f32>) -> vec2<f32> {
     let vn = (v.x - w.v.x) * w.n.x + (v.y - w.v.y) * w.n.y;

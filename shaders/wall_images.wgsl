@@ -61,7 +61,7 @@ fn for_each_image(g: ptr<function, Gather>, i: u32, w: Wall) {
 
 // Particle i's wall, if it has one and the scene takes images.
 fn wall_of(i: u32) -> Wall {
-    var w = Wall(NO_WALL, 0u, 0u, 0.0, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0);
+    var w = no_wall();
     if (IMAGES) {
         w = walls[i];
     }

@@ -46,10 +46,6 @@ struct Master {
 @group(0) @binding(15) var<storage, read> clock: array<u32>;
 @group(0) @binding(16) var<storage, read_write> wall_impulse: array<f32>;
 
-fn no_wall() -> Wall {
-    return Wall(NO_WALL, 0u, 0u, 0.0, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0);
-}
-
 @compute @workgroup_size(WG)
 fn find(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;

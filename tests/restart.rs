@@ -133,6 +133,32 @@ fn a_killed_run_restarted_ends_as_if_never_stopped() {
     let _ = std::fs::remove_dir_all(&killed);
 }
 
+/// A run with wall images is not continued from its checkpoint (the images' last reaction on
+/// the projectile is not in it): refused with exit code 2, saying so, the folder left alone.
+#[test]
+fn a_run_with_wall_images_is_not_restarted() {
+    let dir = scratch("restart-images");
+    let set = ["run.end_time=1e-5", "contact.kernel=\"images\""];
+    let first = smoke(&set, &["--no-vtk", "--checkpoint-every", "5e-6"])
+        .args(["--out", arg(&dir)])
+        .output()
+        .unwrap();
+    assert!(first.status.success(), "{first:?}");
+    let before = files(&dir);
+    let file = dir.join("restart.bin");
+    let out: Output = smoke(&set, &["--no-vtk"])
+        .args(["--restart", arg(&file)])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(arg(&file)) && stderr.contains("contact.kernel = \"images\""),
+        "{stderr}"
+    );
+    assert!(files(&dir) == before, "the output folder changed");
+}
+
 /// Every kind of restart file that cannot go on with the run is refused with exit code 2 and
 /// a message naming the file and what is wrong, and leaves the output folder as it was.
 #[test]

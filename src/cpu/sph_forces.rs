@@ -159,39 +159,38 @@ pub fn run(
             let mut pair_power = 0.0f32;
             let mut heat = 0.0f32;
             let mut mu_max = 0.0f32;
-            for nb in grid.neighbours(i) {
-                let j = nb.j();
-                let sign = if nb.mirror() { -1.0 } else { 1.0 };
-                let mj = m_tilde[j];
-                let gw = nb.grad();
-                let sj = sigma[j];
-                let rj = hoop_radius(r[j], h);
-                // w = ±r: a mirror ghost pair is weighted −r on both sides.
-                let (wi, wj) = (sign * ri, sign * rj);
+            // One pair's term, a neighbour's (or its axis ghost's) or an image's: the partner
+            // as the pair sees it (`Partner`), its artificial stress and velocity gradient in
+            // the same frame, asked for only where they are used. Returns the pair's
+            // acceleration term and v_i − v_j.
+            let mut term = |q: Partner,
+                            art_j: &dyn Fn() -> [f32; 3],
+                            l_j: &dyn Fn() -> [f32; 4]|
+             -> ([f32; 2], f32, f32) {
+                let (j, gw, mj) = (q.j, q.gw, m_tilde[q.j]);
+                let (wi, wj) = (q.w_i, q.w_j);
                 let mut t = [
-                    wi * si[0] + wj * sj[0],
-                    wi * si[1] + wj * sj[1],
-                    wi * si[2] + wj * sign * sj[2],
+                    wi * si[0] + wj * q.s[0],
+                    wi * si[1] + wj * q.s[1],
+                    wi * si[2] + wj * q.s[2],
                 ];
-
-                let dvr = vr[i] - sign * vr[j];
-                let dvz = vz[i] - vz[j];
-                let vx = dvr * nb.dr + dvz * nb.dz;
+                let (dvr, dvz) = (vr[i] - q.v[0], vz[i] - q.v[1]);
+                let vx = dvr * q.dr + dvz * q.dz;
                 if vx < 0.0 {
                     // The time step allows for the raw jump.
-                    mu_max = mu_max.max(-h * vx / (nb.dist * nb.dist + ETA2 * h * h));
+                    mu_max = mu_max.max(-h * vx / (q.dist * q.dist + ETA2 * h * h));
                 }
                 let jump = if params.reconstruct_viscosity && vx < 0.0 {
-                    reconstructed_jump(vx, [nb.dr, nb.dz], l_visc[i], mirrored(l_visc[j], sign))
+                    reconstructed_jump(vx, [q.dr, q.dz], l_visc[i], l_j())
                 } else {
                     vx
                 };
                 if jump < 0.0 {
-                    let mu = h * jump / (nb.dist * nb.dist + ETA2 * h * h);
+                    let mu = h * jump / (q.dist * q.dist + ETA2 * h * h);
                     let c_mean = 0.5 * (sound[i] + sound[j]);
                     let rho_mean = 0.5 * (rho[i] + rho[j]);
                     let mut pi =
-                        0.5 * (ri + rj) * (-params.alpha * c_mean * mu + params.beta * mu * mu)
+                        0.5 * (ri + q.r) * (-params.alpha * c_mean * mu + params.beta * mu * mu)
                             / rho_mean;
                     if params.balsara {
                         pi *= 0.5 * (visc_switch[i] + visc_switch[j]);
@@ -201,16 +200,44 @@ pub fn run(
                     heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]) / ri;
                 }
                 if art_on {
-                    let rj_art = art[j];
-                    let f = (kernel.w(nb.dist) / params.w_spacing).powf(params.art_stress_n);
+                    let rj_art = art_j();
+                    let f = (kernel.w(q.dist) / params.w_spacing).powf(params.art_stress_n);
                     t[0] += f * (wi * ri_art[0] + wj * rj_art[0]);
                     t[1] += f * (wi * ri_art[1] + wj * rj_art[1]);
-                    t[2] += f * (wi * ri_art[2] + wj * sign * rj_art[2]);
+                    t[2] += f * (wi * ri_art[2] + wj * rj_art[2]);
                 }
                 let pair = [
                     mj * (t[0] * gw[0] + t[2] * gw[1]),
                     mj * (t[2] * gw[0] + t[1] * gw[1]),
                 ];
+                (pair, dvr, dvz)
+            };
+            for nb in grid.neighbours(i) {
+                let j = nb.j();
+                let sign = if nb.mirror() { -1.0 } else { 1.0 };
+                let rj = hoop_radius(r[j], h);
+                let sj = sigma[j];
+                // w = ±r: a mirror ghost pair is weighted −r on both sides; the ghost's shear
+                // stress and radial velocity change sign.
+                let (pair, dvr, dvz) = term(
+                    Partner {
+                        j,
+                        dr: nb.dr,
+                        dz: nb.dz,
+                        dist: nb.dist,
+                        gw: nb.grad(),
+                        s: [sj[0], sj[1], sign * sj[2]],
+                        w_i: sign * ri,
+                        w_j: sign * rj,
+                        r: rj,
+                        v: [sign * vr[j], vz[j]],
+                    },
+                    &|| {
+                        let a = art[j];
+                        [a[0], a[1], sign * a[2]]
+                    },
+                    &|| mirrored(l_visc[j], sign),
+                );
                 acc[0] += pair[0];
                 acc[1] += pair[1];
                 pair_power += pair[0] * dvr + pair[1] * dvz;
@@ -219,52 +246,25 @@ pub fn run(
                 let mut image_acc = [0.0f32; 2];
                 wall.images(i, r, z, grid, kernel, |im| {
                     let j = im.j;
-                    let mj = m_tilde[j];
-                    let gw = im.grad;
-                    let sg = wall.tensor(sigma[j]);
                     let rg = hoop_radius(im.r, h);
-                    let (wi, wj) = (ri, rg);
-                    let mut t = [
-                        wi * si[0] + wj * sg[0],
-                        wi * si[1] + wj * sg[1],
-                        wi * si[2] + wj * sg[2],
-                    ];
                     let (vrg, vzg) = wall.velocity(vr[j], vz[j]);
-                    let (dvr, dvz) = (vr[i] - vrg, vz[i] - vzg);
-                    let vx = dvr * im.dr + dvz * im.dz;
-                    if vx < 0.0 {
-                        mu_max = mu_max.max(-h * vx / (im.dist * im.dist + ETA2 * h * h));
-                    }
-                    let jump = if params.reconstruct_viscosity && vx < 0.0 {
-                        reconstructed_jump(vx, [im.dr, im.dz], l_visc[i], wall.gradient(l_visc[j]))
-                    } else {
-                        vx
-                    };
-                    if jump < 0.0 {
-                        let mu = h * jump / (im.dist * im.dist + ETA2 * h * h);
-                        let c_mean = 0.5 * (sound[i] + sound[j]);
-                        let rho_mean = 0.5 * (rho[i] + rho[j]);
-                        let mut pi =
-                            0.5 * (ri + rg) * (-params.alpha * c_mean * mu + params.beta * mu * mu)
-                                / rho_mean;
-                        if params.balsara {
-                            pi *= 0.5 * (visc_switch[i] + visc_switch[j]);
-                        }
-                        t[0] -= pi;
-                        t[1] -= pi;
-                        heat += 0.5 * mj * pi * (dvr * gw[0] + dvz * gw[1]) / ri;
-                    }
-                    if art_on {
-                        let rg_art = wall.tensor(art[j]);
-                        let f = (kernel.w(im.dist) / params.w_spacing).powf(params.art_stress_n);
-                        t[0] += f * (wi * ri_art[0] + wj * rg_art[0]);
-                        t[1] += f * (wi * ri_art[1] + wj * rg_art[1]);
-                        t[2] += f * (wi * ri_art[2] + wj * rg_art[2]);
-                    }
-                    let pair = [
-                        mj * (t[0] * gw[0] + t[2] * gw[1]),
-                        mj * (t[2] * gw[0] + t[1] * gw[1]),
-                    ];
+                    // w = r on both sides; the image carries its source's stress reflected.
+                    let (pair, _, _) = term(
+                        Partner {
+                            j,
+                            dr: im.dr,
+                            dz: im.dz,
+                            dist: im.dist,
+                            gw: im.grad,
+                            s: wall.tensor(sigma[j]),
+                            w_i: ri,
+                            w_j: rg,
+                            r: rg,
+                            v: [vrg, vzg],
+                        },
+                        &|| wall.tensor(art[j]),
+                        &|| wall.gradient(l_visc[j]),
+                    );
                     image_acc[0] += pair[0];
                     image_acc[1] += pair[1];
                 });
@@ -286,6 +286,22 @@ pub fn run(
             *mu_out = mu_max;
         });
     reaction
+}
+
+/// A pair's partner as the pair sees it: `j`, the separation x_i − x_j, its length and ∇_i W,
+/// j's (σ_rr, σ_zz, σ_rz)/ρ² in the pair's frame, the ring weights w_i and w_j, j's radius
+/// in the viscosity's mean and its velocity in the pair's frame.
+struct Partner {
+    j: usize,
+    dr: f32,
+    dz: f32,
+    dist: f32,
+    gw: [f32; 2],
+    s: [f32; 3],
+    w_i: f32,
+    w_j: f32,
+    r: f32,
+    v: [f32; 2],
 }
 
 /// A velocity gradient (rr, rz, zr, zz) as a mirror ghost across the axis has it (`sign` −1):
