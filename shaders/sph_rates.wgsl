@@ -53,7 +53,11 @@ struct Gather {
     weight: f32,
 }
 
-fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
+// One pair's terms, a neighbour's (or its axis ghost's) or an image's: partner j at
+// separation d = x_i − x_j with velocity v_j in the pair's frame and ring weight sum
+// w_i + w_j − 2 r_i for the hoop weight.
+fn pair(acc: ptr<function, Gather>, j: u32, d: vec2<f32>, dist: f32, v_j: vec2<f32>,
+        w_sum: f32) {
     let nb = rate_pair[j];
     var a = nb.x;
     if (CONJUGATE) {
@@ -61,9 +65,8 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
         a = nb.y / (*acc).rho_i;
     }
     let gw = kernel_grad(u.kernel, d, dist);
-    let vj = kin[j].zw;
-    let dvr = sign * vj.x - (*acc).v.x;
-    let dvz = vj.y - (*acc).v.y;
+    let dvr = v_j.x - (*acc).v.x;
+    let dvz = v_j.y - (*acc).v.y;
     // Products in the CPU's order, (a v) w, for the closest agreement.
     (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
     let c = nb.x;
@@ -71,32 +74,23 @@ fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32
         (*acc).gc += vec4<f32>(c * dvr * gw.x, c * dvr * gw.y, c * dvz * gw.x, c * dvz * gw.y);
     }
     (*acc).m -= vec4<f32>(c * d.x * gw.x, c * d.x * gw.y, c * d.y * gw.x, c * d.y * gw.y);
-    let ri = (*acc).ri;
-    let rj = nb.w;
-    (*acc).weight += nb.z * (sign * ri + sign * rj - 2.0 * ri) * gw.x;
+    (*acc).weight += nb.z * w_sum * gw.x;
 }
 
-// The image of neighbour j (of i itself when j = i) across i's wall w, at d = x_i − x_image
-// (sph_rates.rs `Field::gradient`'s image loop, in its order of operations).
+// Neighbour j (its mirror ghost when sign = −1: radial velocity reversed, w = −r).
+fn neighbour(acc: ptr<function, Gather>, i: u32, j: u32, d: vec2<f32>, dist: f32, sign: f32) {
+    let vj = kin[j].zw;
+    let ri = (*acc).ri;
+    let rj = rate_pair[j].w;
+    pair(acc, j, d, dist, vec2<f32>(sign * vj.x, vj.y), sign * ri + sign * rj - 2.0 * ri);
+}
+
+// The image of neighbour j (of i itself when j = i) across i's wall w, at d = x_i − x_image:
+// moving as j mirrored in the wall's frame, w = r with the image's own radius.
 fn image(acc: ptr<function, Gather>, i: u32, j: u32, w: Wall, d: vec2<f32>, dist: f32,
          r_image: f32) {
-    let nb = rate_pair[j];
-    var a = nb.x;
-    if (CONJUGATE) {
-        a = nb.y / (*acc).rho_i;
-    }
-    let gw = kernel_grad(u.kernel, d, dist);
-    let vg = wall_velocity(w, kin[j].zw);
-    let dvr = vg.x - (*acc).v.x;
-    let dvz = vg.y - (*acc).v.y;
-    (*acc).g += vec4<f32>(a * dvr * gw.x, a * dvr * gw.y, a * dvz * gw.x, a * dvz * gw.y);
-    let c = nb.x;
-    if (RECONSTRUCT && CONJUGATE) {
-        (*acc).gc += vec4<f32>(c * dvr * gw.x, c * dvr * gw.y, c * dvz * gw.x, c * dvz * gw.y);
-    }
-    (*acc).m -= vec4<f32>(c * d.x * gw.x, c * d.x * gw.y, c * d.y * gw.x, c * d.y * gw.y);
     let rg = hoop_radius(r_image, u.kernel.h);
-    (*acc).weight += nb.z * (rg - (*acc).ri) * gw.x;
+    pair(acc, j, d, dist, wall_velocity(w, kin[j].zw), rg - (*acc).ri);
 }
 
 // sph_rates.rs `correct`: L = G M⁻¹ where det M is large enough, else G.

@@ -173,51 +173,44 @@ impl Field<'_> {
         let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
         let ri = hoop_radius(self.r[i], self.h);
         let mut weight = 0.0f32;
-        for nb in self.grid.neighbours(i) {
-            let j = nb.j();
-            let sign = if nb.mirror() { -1.0 } else { 1.0 };
-            let rj = hoop_radius(self.r[j], self.h);
-            let area = if self.conjugate {
-                self.area[j] * self.rho[j] / self.rho[i]
-            } else {
-                self.area[j]
-            };
-            let gw = nb.grad();
-            let vrj = if nb.mirror() { -vr[j] } else { vr[j] };
-            let dvr = vrj - vr[i];
-            let dvz = vz[j] - vz[i];
-            // x_j − x_i = −(dr, dz)
-            g[0] += area * dvr * gw[0];
-            g[1] += area * dvr * gw[1];
-            g[2] += area * dvz * gw[0];
-            g[3] += area * dvz * gw[1];
-            m[0] -= area * nb.dr * gw[0];
-            m[1] -= area * nb.dr * gw[1];
-            m[2] -= area * nb.dz * gw[0];
-            m[3] -= area * nb.dz * gw[1];
-            weight += self.m_tilde[j] * (sign * ri + sign * rj - 2.0 * ri) * gw[0];
-        }
-        if let Some(wall) = self.walls.map(|w| w[i]).filter(|w| w.on()) {
-            wall.images(i, self.r, self.z, self.grid, self.kernel, |im| {
-                let j = im.j;
+        // One pair's terms, a neighbour's (or its axis ghost's) or an image's: partner j at
+        // x_i − x_j = (dr, dz) with velocity (vr_j, vz_j) in the pair's frame and ring weight
+        // sum w_i + w_j − 2 r_i.
+        let mut pair =
+            |j: usize, (dr, dz): (f32, f32), gw: [f32; 2], (vrj, vzj): (f32, f32), w_sum: f32| {
                 let area = if self.conjugate {
                     self.area[j] * self.rho[j] / self.rho[i]
                 } else {
                     self.area[j]
                 };
-                let (vrg, vzg) = wall.velocity(vr[j], vz[j]);
-                let (dvr, dvz) = (vrg - vr[i], vzg - vz[i]);
-                let gw = im.grad;
+                let dvr = vrj - vr[i];
+                let dvz = vzj - vz[i];
+                // x_j − x_i = −(dr, dz)
                 g[0] += area * dvr * gw[0];
                 g[1] += area * dvr * gw[1];
                 g[2] += area * dvz * gw[0];
                 g[3] += area * dvz * gw[1];
-                m[0] -= area * im.dr * gw[0];
-                m[1] -= area * im.dr * gw[1];
-                m[2] -= area * im.dz * gw[0];
-                m[3] -= area * im.dz * gw[1];
+                m[0] -= area * dr * gw[0];
+                m[1] -= area * dr * gw[1];
+                m[2] -= area * dz * gw[0];
+                m[3] -= area * dz * gw[1];
+                weight += self.m_tilde[j] * w_sum * gw[0];
+            };
+        for nb in self.grid.neighbours(i) {
+            let j = nb.j();
+            let sign = if nb.mirror() { -1.0 } else { 1.0 };
+            let rj = hoop_radius(self.r[j], self.h);
+            // A mirror ghost: radial velocity reversed, w = −r.
+            let vrj = if nb.mirror() { -vr[j] } else { vr[j] };
+            let w_sum = sign * ri + sign * rj - 2.0 * ri;
+            pair(j, (nb.dr, nb.dz), nb.grad(), (vrj, vz[j]), w_sum);
+        }
+        if let Some(wall) = self.walls.map(|w| w[i]).filter(|w| w.on()) {
+            wall.images(i, self.r, self.z, self.grid, self.kernel, |im| {
+                // Moving as its source mirrored in the wall's frame, w = r of its own radius.
                 let rg = hoop_radius(im.r, self.h);
-                weight += self.m_tilde[j] * (rg - ri) * gw[0];
+                let v = wall.velocity(vr[im.j], vz[im.j]);
+                pair(im.j, (im.dr, im.dz), im.grad, v, rg - ri);
             });
         }
         let l = if self.conjugate { g } else { correct(g, m) };
