@@ -94,7 +94,7 @@ pub fn prologue(particles: &mut Particles, params: &SphParams) {
 
 /// Particle accelerations, the viscous heating, the largest μ of each particle's pairs and the
 /// work-conjugate energy rate, after `prologue`; and the ring force (N) each particle's wall
-/// images exert on it (`wall`), zero where it has none.
+/// images exert on it (`wall`), zero where it has none and empty without `walls`.
 pub fn run(
     particles: &mut Particles,
     grid: &CellGrid,
@@ -105,7 +105,6 @@ pub fn run(
     let art_on = params.art_stress_eps > 0.0;
     let h = params.h;
     let kernel = &params.kernel;
-    let mut reaction = vec![[0.0f32; 2]; particles.len()];
     let Particles {
         r,
         z,
@@ -144,14 +143,15 @@ pub fn run(
         &*stress_rho2,
         &*art_stress,
     );
-    ar.par_iter_mut()
+    let particle = ar
+        .par_iter_mut()
         .zip(az.par_iter_mut())
         .zip(de_visc.par_iter_mut())
         .zip(de_work.par_iter_mut())
         .zip(mu_visc.par_iter_mut())
-        .zip(reaction.par_iter_mut())
         .enumerate()
-        .for_each(|(i, (((((ar, az), de), work), mu_out), react))| {
+        .map(|(i, ((((ar, az), de), work), mu_out))| {
+            let mut react = [0.0f32; 2];
             let si = sigma[i];
             let ri_art = art[i];
             let ri = hoop_radius(r[i], h);
@@ -276,7 +276,7 @@ pub fn run(
                 acc[1] += image_acc[1];
                 // The ring force is m a = 2π m̃_i · acc (a = acc/r_i).
                 let ring = TWO_PI * m_tilde[i];
-                *react = [ring * image_acc[0], ring * image_acc[1]];
+                react = [ring * image_acc[0], ring * image_acc[1]];
             }
             let hoop_r = -(s_tt[i] - p[i]) * hoop_weight[i] / (rho[i] * ri);
             *work = -pair_power / (2.0 * ri) - hoop_r * vr[i];
@@ -284,7 +284,14 @@ pub fn run(
             *az = acc[1] / ri;
             *de = heat;
             *mu_out = mu_max;
+            react
         });
+    // The ring forces are kept only where there are walls to take them.
+    let mut reaction = Vec::new();
+    match walls {
+        Some(_) => particle.collect_into_vec(&mut reaction),
+        None => particle.for_each(drop),
+    }
     reaction
 }
 
