@@ -306,6 +306,29 @@ fn gpu_depth_matches_cpu_with_wall_images() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A GPU run with wall images brings the segments' sums of the images' reaction back with its
+/// state (what a checkpoint carries for the next integration), as the CPU makes them: the
+/// images' total axial push on the projectile after 150 steps within 1 % of the CPU's (the
+/// sums of one segment jump as particles take or lose their walls; their total does not).
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn gpu_wall_sums_come_back_with_the_state() {
+    let scene = smoke(&["contact.kernel=\"images\""]);
+    let cpu = run_steps(Simulation::new(&scene).unwrap(), 150);
+    let gpu = run_steps(on_gpu(&scene), 150);
+    let axial = |m: &Model| -> f64 {
+        assert_eq!(m.walls.sums.len(), m.projectile.masters.len());
+        m.walls.sums.iter().map(|s| (s[1] + s[3]) as f64).sum()
+    };
+    let (c, g) = (axial(&cpu), axial(&gpu));
+    eprintln!("the images' axial push after 150 steps: CPU {c} N, GPU {g} N");
+    assert!(c.abs() > 0.0, "no image pushed");
+    assert!(
+        (g - c).abs() <= 0.01 * c.abs(),
+        "GPU {g} N against CPU {c} N"
+    );
+}
+
 /// The GPU run's energy error, contact impulse and nose impulse are the CPU's, and its contact
 /// impulse is its projectile's momentum change.
 fn books_the_cpu_account(cpu: &solver::RunOutcome, gpu: &solver::RunOutcome) {

@@ -18,11 +18,12 @@
 //! The payload, in order: the solver build that wrote it (`output::summary::build_id`), the
 //! resolved scene (`Scene::resolved_table`); the model's time, step, next Δt and last hit
 //! count, its [`Account`]; every array of the particles, the projectile's nodes and its
-//! elements, in their structs' field order; the run loop's [`Counters`]; where `history.csv`
-//! stood ([`Mark`]); the entries of `frames.pvd`, or none for a run without frames. An array
-//! is its length (u64) and its items, a string its length in bytes (u64) and its UTF-8, an
-//! option a byte 0 or 1 and the value, a `usize` a u64, a struct its fields in order. The
-//! field lists below are exhaustive patterns: a field added to a state struct does not compile
+//! elements, in their structs' field order; the wall images' last sums per master segment
+//! (`Model::walls`: the reaction the next integration books; none without images); the run
+//! loop's [`Counters`]; where `history.csv` stood ([`Mark`]); the entries of `frames.pvd`, or
+//! none for a run without frames. An array is its length (u64) and its items, a string its
+//! length in bytes (u64) and its UTF-8, an option a byte 0 or 1 and the value, a `usize` a
+//! u64, a struct its fields in order. The field lists below are exhaustive patterns: a field added to a state struct does not compile
 //! until it is written here too (and [`VERSION`] goes up).
 //!
 //! A restart is refused unless the same build of the solver wrote the file (the executable's
@@ -45,7 +46,7 @@ use crate::state::{Elements, Nodes, Particles};
 
 /// The format's version: raised whenever the payload changes, so that an older file is
 /// refused by name rather than misread.
-pub const VERSION: u32 = 5;
+pub const VERSION: u32 = 6;
 
 const MAGIC: [u8; 8] = *b"PENETRST";
 
@@ -82,6 +83,8 @@ pub struct State {
     pub particles: Particles,
     pub nodes: Nodes,
     pub elements: Elements,
+    /// The wall images' sums per master segment (`Model::walls`), empty without images.
+    pub wall_sums: Vec<[f32; 4]>,
 }
 
 /// Where the run loop stood besides the model: the frames and rows it had written, and when
@@ -113,6 +116,7 @@ struct Parts<'a> {
     particles: &'a Particles,
     nodes: &'a Nodes,
     elements: &'a Elements,
+    wall_sums: &'a [[f32; 4]],
     counters: &'a Counters,
     history: &'a Mark,
     frames: Option<&'a [FrameEntry]>,
@@ -138,6 +142,7 @@ impl<'a> Parts<'a> {
             particles: &m.particles,
             nodes: &m.projectile.nodes,
             elements: &m.projectile.elements,
+            wall_sums: &m.walls.sums,
             counters,
             history,
             frames,
@@ -158,6 +163,7 @@ impl<'a> Parts<'a> {
         self.particles.put(w);
         self.nodes.put(w);
         self.elements.put(w);
+        self.wall_sums.put(w);
         self.counters.put(w);
         self.history.put(w);
         self.frames.put(w);
@@ -187,6 +193,7 @@ impl Checkpoint {
             particles: &s.particles,
             nodes: &s.nodes,
             elements: &s.elements,
+            wall_sums: &s.wall_sums,
             counters: &self.counters,
             history: &self.history,
             frames: self.frames.as_deref(),
@@ -243,6 +250,7 @@ impl Checkpoint {
             particles: Get::get(r)?,
             nodes: Get::get(r)?,
             elements: Get::get(r)?,
+            wall_sums: Get::get(r)?,
         };
         let checkpoint = Checkpoint {
             build,
@@ -351,13 +359,11 @@ impl Restart {
         if let Some(why) = self.misfit(model) {
             return Err(self.refused(Refusal::OtherModel(why)));
         }
-        if model.passes.contains(&super::Pass::Walls) {
-            return Err(self.refused(Refusal::Images));
-        }
         let s = &mut self.checkpoint.state;
         model.particles = std::mem::take(&mut s.particles);
         model.projectile.nodes = std::mem::take(&mut s.nodes);
         model.projectile.elements = std::mem::take(&mut s.elements);
+        model.walls.sums = std::mem::take(&mut s.wall_sums);
         model.time = s.time;
         model.step = s.step;
         model.dt = s.dt;
@@ -405,6 +411,17 @@ impl Restart {
                     "its {what}.{name} holds {n} values, this scene's model {m}"
                 ));
             }
+        }
+        let segments = if model.passes.contains(&super::Pass::Walls) {
+            p.masters.len()
+        } else {
+            0
+        };
+        if s.wall_sums.len() != segments {
+            return Some(format!(
+                "it holds the wall images' sums of {} master segments, this scene's model {segments}",
+                s.wall_sums.len()
+            ));
         }
         (s.elements.nodes != p.elements.nodes
             || s.elements.cells != p.elements.cells
@@ -510,8 +527,6 @@ pub enum Refusal {
     Frames { written: bool },
     /// The `history.csv` it continues is not in the output folder as it was.
     History(String),
-    /// The scene has wall images, whose last reaction on the nodes the file does not hold.
-    Images,
 }
 
 impl fmt::Display for Refusal {
@@ -559,11 +574,6 @@ impl fmt::Display for Refusal {
             Refusal::Frames { written: false } => write!(
                 f,
                 "is of a run started with --no-vtk: restart it with --no-vtk"
-            ),
-            Refusal::Images => write!(
-                f,
-                "cannot continue a run with contact.kernel = \"images\": the images' last \
-                 reaction on the projectile is not in the file; run the scene from the start"
             ),
             Refusal::History(why) => write!(
                 f,

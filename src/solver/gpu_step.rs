@@ -47,6 +47,9 @@ impl Stepper for GpuStepper {
             sim.account.nose_impulse += nose - self.wall_booked.1;
             self.wall_booked = (total, nose);
         }
+        if let Some(sums) = t.wall_sums {
+            sim.walls.sums = sums;
+        }
         sim.dt = t.next_dt;
         sim.reduced = t.particles;
         Ok(())

@@ -117,20 +117,22 @@ impl GpuStep {
             // host's are the same gather, in the same order, of the forces just read.
             crate::cpu::fem_forces::run(&mut projectile.nodes, &projectile.elements);
         }
-        if let Some(part) = wall_sums {
+        let wall_sums = wall_sums.map(|part| {
             let sums: Vec<[f32; 4]> = read
                 .take::<[f32; 6]>(part)
                 .iter()
                 .map(|f| [-f[0], -f[1], -f[2], -f[3]])
                 .collect();
             crate::cpu::wall::react(&mut projectile.nodes, &projectile.masters, &sums);
-        }
+            sums
+        });
         let wall_impulse = wall_impulse.map(|part| read.take::<f32>(part));
         let totals = Totals {
             boundary_impulse: particle_impulse + sum(node_impulse),
             particles: reduced,
             wall_lost: sum(node_lost),
             wall_impulse,
+            wall_sums,
             plastic_work: sum(plastic),
             next_dt: self.next_dt(&read.take::<u32>(clock)),
         };
@@ -180,6 +182,9 @@ pub struct Totals {
     /// With wall images: per master segment, the z-impulse their reaction gave the projectile
     /// since the GPU took over (N s).
     pub wall_impulse: Option<Vec<f32>>,
+    /// With wall images: the segments' last sums (`Model::walls`), as the entries past the
+    /// elements' forces hold them reversed.
+    pub wall_sums: Option<Vec<[f32; 4]>>,
     pub plastic_work: f64,
     pub next_dt: f32,
 }
