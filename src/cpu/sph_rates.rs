@@ -249,8 +249,8 @@ fn correct(g: [f32; 4], m: [f32; 4]) -> [f32; 4] {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KernelReading {
     /// Kernel completeness `Σ_j (m̃_j/ρ_j) W_ij` over the particle itself, its neighbours and
-    /// the axis ghosts: 1 inside the material, ½–¾ at a free face (the face's own row counts
-    /// whole).
+    /// the axis ghosts (and its wall images): 1 inside the material, ½–¾ at a free face (the
+    /// face's own row counts whole).
     pub completeness: f32,
     /// The volumetric rate `−ρ̇/ρ` as the step takes it (this scene's gradient and hoop rate).
     pub divergence: f32,
@@ -260,11 +260,14 @@ pub struct KernelReading {
 }
 
 /// [`KernelReading`] at the particles `which`, from the current positions and velocities;
-/// `grid` is the neighbour list of those positions.
+/// `grid` is the neighbour list of those positions, `walls` the particles' walls where the
+/// scene has wall images (the step's readings and the completeness then count the images; the
+/// corrected rate reads the particles alone).
 pub fn kernel_readings(
     particles: &Particles,
     grid: &CellGrid,
     params: &SphParams,
+    walls: Option<&[Wall]>,
     which: &[usize],
 ) -> Vec<KernelReading> {
     let h = params.h;
@@ -274,7 +277,7 @@ pub fn kernel_readings(
         .map(|i| p.mass[i] / (TWO_PI * hoop_radius(p.r[i], h)))
         .collect();
     let area: Vec<f32> = m_tilde.iter().zip(&p.rho).map(|(m, rho)| m / rho).collect();
-    let field = |conjugate| Field {
+    let field = |conjugate, walls| Field {
         r: &p.r,
         z: &p.z,
         rho: &p.rho,
@@ -284,15 +287,20 @@ pub fn kernel_readings(
         conjugate,
         grid,
         kernel,
-        walls: None,
+        walls,
     };
-    let (stepped, corrected) = (field(params.conjugate_gradient), field(false));
+    let (stepped, corrected) = (field(params.conjugate_gradient, walls), field(false, None));
     which
         .iter()
         .map(|&i| {
             let mut completeness = area[i] * kernel.w(0.0);
             for nb in grid.neighbours(i) {
                 completeness += area[nb.j()] * kernel.w(nb.dist);
+            }
+            if let Some(wall) = walls.map(|w| w[i]).filter(|w| w.on()) {
+                wall.images(i, &p.r, &p.z, grid, kernel, |im| {
+                    completeness += area[im.j] * kernel.w(im.dr.hypot(im.dz));
+                });
             }
             let (l, weight) = stepped.gradient(i, &p.vr, &p.vz);
             let (lc, _) = corrected.gradient(i, &p.vr, &p.vz);

@@ -13,6 +13,7 @@
 
 use crate::cpu::neighbours::CellGrid;
 use crate::cpu::sph_rates::{kernel_readings, KernelReading};
+use crate::cpu::wall::Wall;
 use crate::scene::Scene;
 use crate::solver::{Model, RunError, Simulation};
 use crate::state::{Particles, SphParams};
@@ -113,10 +114,15 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
     }
     let mut grid = CellGrid::default();
     crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
-    for (l, k) in found.iter_mut().zip(kernel_readings(p, &grid, sph, &which)) {
+    // With wall images, the walls the last force evaluation found, at these positions.
+    let walls = model.walls.found();
+    for (l, k) in found
+        .iter_mut()
+        .zip(kernel_readings(p, &grid, sph, walls, &which))
+    {
         l.kernel = k;
     }
-    let (with, without) = pair_forces(p, &grid, sph);
+    let (with, without) = pair_forces(p, &grid, sph, walls);
     for ((l, &i), n) in found.iter_mut().zip(&which).zip(&normals) {
         let push = |a: &Particles| -p.mass[i] * (a.ar[i] * n[0] + a.az[i] * n[1]);
         l.push = push(&with);
@@ -128,11 +134,17 @@ pub fn lining(model: &Model, band: f32) -> Vec<Lining> {
 /// The particles with `sph_forces`' accelerations at their present positions, with the
 /// artificial viscosity and without it (α = β = 0, everything else the same): their difference
 /// is the viscosity's part, the pair sums being otherwise the same terms in the same order.
-/// `grid` is the neighbour list of the present positions.
-fn pair_forces(p: &Particles, grid: &CellGrid, sph: &SphParams) -> (Particles, Particles) {
+/// `grid` is the neighbour list of the present positions; `walls` the particles' walls where
+/// the scene has wall images (their pairs count as a neighbour's).
+fn pair_forces(
+    p: &Particles,
+    grid: &CellGrid,
+    sph: &SphParams,
+    walls: Option<&[Wall]>,
+) -> (Particles, Particles) {
     let forces = |params: &SphParams| {
         let mut q = p.clone();
-        crate::cpu::sph_forces::run(&mut q, grid, params, None);
+        crate::cpu::sph_forces::run(&mut q, grid, params, walls);
         q
     };
     let dry = SphParams {
@@ -339,7 +351,7 @@ mod tests {
         }
         let mut grid = CellGrid::default();
         crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
-        let k = kernel_readings(p, &grid, &sph, &[inside, face]);
+        let k = kernel_readings(p, &grid, &sph, None, &[inside, face]);
         assert!((k[0].completeness - 1.0).abs() < 0.05, "{:?}", k[0]);
         assert!((0.5..0.8).contains(&k[1].completeness), "{:?}", k[1]);
         let div = 2.0 * a + b;
@@ -368,6 +380,46 @@ mod tests {
         }
         let tip = s.lining.iter().filter(|l| l.along < 0.2);
         assert!(tip.clone().count() > 0 && tip.clone().all(|l| l.normal_velocity > 0.0));
+    }
+
+    /// With wall images the readings count them: at one state, each particle with an image in
+    /// its kernel reads a larger completeness and another step's rate than without its images,
+    /// one without the same; the corrected rate, which reads the particles alone, the same.
+    #[test]
+    fn with_wall_images_the_readings_count_them() {
+        let mut sim = Simulation::new(&coarse(&["contact.kernel=\"images\""])).unwrap();
+        while sim.time() < 1.5e-4 {
+            sim.step().unwrap();
+        }
+        let model = sim.model().unwrap();
+        let (p, sph) = (&model.particles, model.sph.as_ref().unwrap());
+        let walls = model
+            .walls
+            .found()
+            .expect("the walls are found at every step");
+        let mut grid = CellGrid::default();
+        crate::cpu::neighbours::run(&mut grid, &p.r, &p.z, &sph.kernel);
+        let which: Vec<usize> = (0..p.r.len()).filter(|&i| p.r[i] < 0.05).collect();
+        let with = kernel_readings(p, &grid, sph, Some(walls), &which);
+        let without = kernel_readings(p, &grid, sph, None, &which);
+        let mut walled = 0;
+        for ((&i, a), b) in which.iter().zip(&with).zip(&without) {
+            assert_eq!(a.divergence_corrected, b.divergence_corrected);
+            let mut images = 0;
+            if walls[i].on() {
+                walls[i].images(i, &p.r, &p.z, &grid, &sph.kernel, |im| {
+                    images += usize::from(sph.kernel.w(im.dr.hypot(im.dz)) > 0.0);
+                });
+            }
+            if images > 0 {
+                walled += 1;
+                assert!(a.completeness > b.completeness, "{a:?} against {b:?}");
+                assert_ne!(a.divergence, b.divergence);
+            } else {
+                assert_eq!(a, b);
+            }
+        }
+        assert!(walled > 0, "no particle has an image in its kernel");
     }
 
     /// The first row's push toward the nose: the concrete presses on the nose, the viscosity

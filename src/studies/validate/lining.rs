@@ -37,10 +37,12 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     };
     let mut readings = Vec::new();
     let mut loads = Vec::new();
+    let mut images = false;
     for (k, &crh) in NOSES.iter().enumerate() {
         let mut overrides = ctx.settings.forrestal.clone();
         overrides.push(format!("projectile.crh={crh}"));
         let scene = ctx.scene("forrestal1994-277.toml", &overrides)?;
+        images = scene.contact.kernel == crate::scene::SurfaceKernel::Images;
         let (fc, density) = scene.target.as_ref().map_or((0.0, 0.0), |t| {
             (t.concrete.fc as f64, t.concrete.density as f64)
         });
@@ -190,8 +192,8 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
         }
     }
     let mut md = format!(
-        "The 277 m/s shot's scene{} with a CRH 2 and a CRH 6 nose (same body otherwise), on the \
-         CPU path, read at t = {} ms: every particle within {BAND} h of the nose's surface and \
+        "The 277 m/s shot's scene{}{} with a CRH 2 and a CRH 6 nose (same body otherwise), on \
+         the CPU path, read at t = {} ms: every particle within {BAND} h of the nose's surface and \
          not behind it. Per bin along the nose: readings (all instants), the nose's mean normal \
          velocity, the kernel completeness `Σ (m̃/ρ) W` (1 in the bulk, ½–¾ at a free face; above 1 where the particles are packed tighter than their density says), the \
          volumetric rate `−ρ̇/ρ` as the step takes it and as a first-order consistent gradient \
@@ -203,6 +205,12 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
          row's readings). Raw data: {csv}.\n\n",
         if ctx.settings.quick {
             " with the quick overrides"
+        } else {
+            ""
+        },
+        if images {
+            " with wall images completing the lining's kernel (`contact.kernel = \"images\"`: \
+             the completeness, the step's rate and the push count them)"
         } else {
             ""
         },
