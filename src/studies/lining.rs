@@ -160,8 +160,28 @@ fn pair_forces(
 pub fn study(scene: &Scene, times: &[f64], band: f32) -> Result<Vec<Snapshot>, RunError> {
     let mut sim = Simulation::new(scene)?;
     let mut out = Vec::new();
+    // Per master segment, the normal impulse the wall images' reaction gave it and the axial
+    // impulse of the rest of that reaction, along the segment (N s): each step's integration
+    // takes the segments' last sums over its Δt (`Model::walls`).
+    let mut images = vec![[0.0f64; 2]; sim.model()?.projectile.masters.len()];
     for &t in times {
         while sim.time() < t {
+            let m = sim.model()?;
+            let n = &m.projectile.nodes;
+            for (k, s) in m.walls.sums.iter().enumerate() {
+                let seg = &m.projectile.masters[k];
+                let (a, b) = (seg.a as usize, seg.b as usize);
+                let (dr, dz) = (n.r[b] - n.r[a], n.z[b] - n.z[a]);
+                let len = dr.hypot(dz);
+                if len > 0.0 {
+                    // Outward normal (Δz, −Δr)/|AB|; the particles' push along it presses on
+                    // the segment, whose axial part on the projectile is push · Δr/|AB|.
+                    let push = ((s[0] + s[2]) * dz - (s[1] + s[3]) * dr) / len;
+                    let axial = -(s[1] + s[3]) - push * dr / len;
+                    images[k][0] += push as f64 * m.dt as f64;
+                    images[k][1] += axial as f64 * m.dt as f64;
+                }
+            }
             sim.step()?;
         }
         let model = sim.model()?;
@@ -177,7 +197,7 @@ pub fn study(scene: &Scene, times: &[f64], band: f32) -> Result<Vec<Snapshot>, R
             speed: -model.projectile_velocity(),
             nose_impulse: model.account.nose_impulse,
             lining: lining(model, band),
-            nose: nose_segments(model),
+            nose: nose_segments(model, &images),
         });
     }
     Ok(out)
@@ -209,8 +229,12 @@ pub struct NoseSegment {
     pub frontal_area: f64,
     /// The axial part of its outward normal, |n_z|.
     pub normal_z: f64,
-    /// The normal impulse the contact gave it since the run began (N s).
+    /// The normal impulse the contact gave it since the run began (N s): its closing hits' and,
+    /// with wall images, the images' reaction's.
     pub impulse: f64,
+    /// With wall images, the axial impulse of their reaction along the segment (N s): the
+    /// images' shear on it.
+    pub drag: f64,
 }
 
 /// The nose's master segments of `model`: (master index, node a, node b).
@@ -222,7 +246,9 @@ fn nose_masters(model: &Model) -> impl Iterator<Item = (usize, usize, usize)> + 
 }
 
 /// The nose's master segments of `model`, tip first, with their impulses so far.
-pub fn nose_segments(model: &Model) -> Vec<NoseSegment> {
+/// `images`: per master segment, the normal impulse of the wall images' reaction so far and the
+/// axial impulse of the rest of it.
+pub fn nose_segments(model: &Model, images: &[[f64; 2]]) -> Vec<NoseSegment> {
     let n = &model.projectile.nodes;
     let shank_radius = nose_masters(model)
         .flat_map(|(_, a, b)| [a, b])
@@ -239,7 +265,8 @@ pub fn nose_segments(model: &Model) -> Vec<NoseSegment> {
                 ring_area: ring * length,
                 frontal_area: ring * dr.abs(),
                 normal_z: if length > 0.0 { dr.abs() / length } else { 0.0 },
-                impulse: model.account.segment_impulse[k],
+                impulse: model.account.segment_impulse[k] + images[k][0],
+                drag: images[k][1],
             };
             (0.5 * (n.z[a] + n.z[b]), segment)
         })
@@ -450,14 +477,24 @@ mod tests {
     /// its own average.
     #[test]
     fn the_bands_carry_the_nose_impulse() {
-        let snapshots = study(&coarse(&[]), &[1.0e-4, 1.5e-4], 1.0).unwrap();
+        bands_carry_the_nose_impulse(&[]);
+    }
+
+    /// The same with wall images: the segments' impulses then count the images' reaction.
+    #[test]
+    fn with_wall_images_the_bands_carry_the_nose_impulse() {
+        bands_carry_the_nose_impulse(&["contact.kernel=\"images\""]);
+    }
+
+    fn bands_carry_the_nose_impulse(extra: &[&str]) {
+        let snapshots = study(&coarse(extra), &[1.0e-4, 1.5e-4], 1.0).unwrap();
         let (from, to) = (&snapshots[0], &snapshots[1]);
         assert!(!to.nose.is_empty() && to.nose.len() == from.nose.len());
         let axial: f64 = from
             .nose
             .iter()
             .zip(&to.nose)
-            .map(|(a, b)| (b.impulse - a.impulse) * b.normal_z)
+            .map(|(a, b)| (b.impulse - a.impulse) * b.normal_z + b.drag - a.drag)
             .sum();
         let nose = to.nose_impulse - from.nose_impulse;
         assert!(nose > 0.0, "{nose}");

@@ -38,6 +38,9 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     let mut readings = Vec::new();
     let mut loads = Vec::new();
     let mut images = false;
+    // With wall images: per nose, the share of the nose's axial impulse over the window that
+    // the images' shear along it gave.
+    let mut drags = Vec::new();
     for (k, &crh) in NOSES.iter().enumerate() {
         let mut overrides = ctx.settings.forrestal.clone();
         overrides.push(format!("projectile.crh={crh}"));
@@ -70,6 +73,13 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
         ));
         if let (Some(first), Some(last)) = (snapshots.first(), snapshots.last()) {
             loads.push((crh, band_pressures(first, last, &BANDS, &law)));
+            let drag: f64 = first
+                .nose
+                .iter()
+                .zip(&last.nose)
+                .map(|(a, b)| b.drag - a.drag)
+                .sum();
+            drags.push((crh, drag / (last.nose_impulse - first.nose_impulse)));
         }
         readings.push((crh, snapshots));
     }
@@ -248,6 +258,15 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     md += &rate;
     md += &pressure;
     md += &nose_load(ctx, section, times, &loads)?;
+    if images {
+        for (crh, share) in drags {
+            md += &format!(
+                "\nCRH {crh}: the images' shear along the nose gave {:.0} % of its axial impulse \
+                 over the window (their normal push is in the pressures above).\n",
+                100.0 * share
+            );
+        }
+    }
     Ok(SectionOut {
         markdown: md,
         checks: vec![],
@@ -391,7 +410,8 @@ fn nose_load(
     let plot = ctx.plot(section, "nose-pressure.png", &chart)?;
     let mut md = format!(
         "\n**Contact pressure on the nose** between t = {} and {} ms: each band's master segments' \
-         normal impulse (the λ correction's m_S δ, summed over the window) over their rings' area \
+         normal impulse (the λ correction's m_S δ and, with wall images, the normal part of the \
+         images' reaction, summed over the window) over their rings' area \
          2π r̄ l and the window, against the local law behind Forrestal's equation, \
          `σ_n = S f_c + ρ (V n_z)²` (S = 82.6 f_c^−0.544, V the window's mean speed, n_z the \
          segment normal's axial part), averaged over the same area. `share` is the band's part \
