@@ -178,16 +178,26 @@ fn quick_validation_writes_every_section() {
         "no critical velocity found"
     );
     assert!(!csv_rows(&out.join("shell/damage-area.csv")).is_empty());
-    // Both noses lined, every reading finite.
+    // Both noses lined, cut and with wall images (the last column), every reading finite.
     let lining = csv_rows(&out.join("nose-lining/lining.csv"));
-    assert!(lining.iter().any(|l| &l[0] == "2") && lining.iter().any(|l| &l[0] == "6"));
+    for crh in ["2", "6"] {
+        for images in ["0", "1"] {
+            assert!(
+                lining.iter().any(|l| &l[0] == crh && &l[13] == images),
+                "CRH {crh}, images {images}"
+            );
+        }
+    }
     assert!(lining
         .iter()
         .all(|l| l.iter().all(|f| f.parse::<f64>().is_ok_and(f64::is_finite))));
-    // The contact's pressure on both noses' bands, against a positive law.
+    // The contact's pressure on both noses' bands, cut and with images, against a positive law.
     let load = csv_rows(&out.join("nose-lining/nose-pressure.csv"));
-    for crh in ["2", "6"] {
-        let rows: Vec<_> = load.iter().filter(|l| &l[0] == crh).collect();
+    for (crh, images) in [("2", "0"), ("6", "0"), ("2", "1"), ("6", "1")] {
+        let rows: Vec<_> = load
+            .iter()
+            .filter(|l| &l[0] == crh && &l[6] == images)
+            .collect();
         assert_eq!(rows.len(), 6, "{load:?}");
         assert!(
             rows.iter()

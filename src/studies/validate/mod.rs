@@ -102,7 +102,9 @@ impl Section {
             Section::RigidVsElastic => "Rigid against elastic-plastic projectile (paper Fig. 2-3)",
             Section::Deformation => "Plastic deformation against striking speed (paper Fig. 4)",
             Section::Shell => "Shell projectile: critical velocity and damage (paper Fig. 6, 7, 9)",
-            Section::Lining => "Concrete lining the nose: CRH 2 against CRH 6",
+            Section::Lining => {
+                "Concrete lining the nose: CRH 2 against CRH 6, cut and with wall images"
+            }
             Section::NoseShape => "Nose shape: CRH 3 and CRH 6 against CRH 2",
             Section::Tension => "Concrete in tension: the crack band and a free-backed slab",
         }
@@ -130,7 +132,7 @@ impl Section {
             }
             Section::Lining => {
                 "none measured: a reading of the solver's own fields (the kernel cut at the \
-                 projectile), for the nose-shape question"
+                 projectile, and completed by wall images), for the nose-shape question"
             }
             Section::NoseShape => {
                 "none measured for these noses: Forrestal's equation (`forrestal1994.csv`'s \
