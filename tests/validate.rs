@@ -124,9 +124,9 @@ fn quick_validation_writes_every_section() {
         ("forrestal/forrestal.csv", shots("forrestal1994.csv")),
         ("crh3-rods/crh3-rods.csv", shots("crh3-rods.csv")),
         ("target-size/target-size.csv", 2),
-        // Two shots at four resolutions on the one backend, and each struck at five speeds
+        // Two shots at five resolutions on the one backend, and each struck at five speeds
         // a few ulps apart at the coarsest (the round-off ensemble).
-        ("convergence/convergence.csv", 8),
+        ("convergence/convergence.csv", 10),
         ("convergence/roundoff.csv", 10),
         ("rigid-vs-elastic/rigid-vs-elastic.csv", 4),
         ("deformation/deformation.csv", 3),
@@ -428,7 +428,31 @@ fn convergence_compares_the_backends_run_by_run_and_by_roundoff_ensemble() {
     assert!(o.status.success(), "{}", stderr(&o));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("### Round-off"), "{report}");
-    assert_eq!(csv_rows(&out.join("convergence/convergence.csv")).len(), 16);
+    let levels = csv_rows(&out.join("convergence/convergence.csv"));
+    assert_eq!(levels.len(), 20);
+    // The refinement check on each shot and backend: the depth at half the spacing and
+    // element size against the depth at the scene's own, as the CSV has them.
+    for shot in ["277", "642"] {
+        for backend in ["cpu", "gpu"] {
+            let depth = |factor: &str| -> f64 {
+                let row = levels
+                    .iter()
+                    .find(|c| &c[0] == shot && &c[1] == backend && &c[2] == factor)
+                    .unwrap_or_else(|| panic!("no ×{factor} {shot} m/s {backend}: {levels:?}"));
+                row[9].parse().unwrap()
+            };
+            let change = format!("{:+.1} %", 100.0 * (depth("0.5") / depth("1") - 1.0));
+            let line = report
+                .lines()
+                .find(|l| {
+                    l.contains(&format!(
+                        "{shot} m/s on {backend}: depth at ×0.5 against ×1"
+                    ))
+                })
+                .unwrap_or_else(|| panic!("no refinement check for {shot} {backend}: {report}"));
+            assert!(line.contains(&change), "{line} (expected {change})");
+        }
+    }
     let rows = csv_rows(&out.join("convergence/roundoff.csv"));
     assert_eq!(rows.len(), 20, "{rows:?}");
     for shot in ["277", "642"] {
@@ -458,7 +482,7 @@ fn convergence_compares_the_backends_run_by_run_and_by_roundoff_ensemble() {
         assert!(line.contains(&difference), "{line} (expected {difference})");
         assert!(
             report.contains(&format!(
-                "{shot} m/s: GPU against CPU depth at 4 resolution(s)"
+                "{shot} m/s: GPU against CPU depth at 5 resolution(s)"
             )),
             "{report}"
         );

@@ -1,4 +1,4 @@
-//! Depth error against run time: the study shots at four resolutions on each backend, and the
+//! Depth error against run time: the study shots at five resolutions on each backend, and the
 //! round-off ensemble that sizes the CPU/GPU difference of single runs.
 
 use crate::output::plot::{Chart, Mark};
@@ -12,6 +12,11 @@ use super::{Section, ValidateError};
 
 /// The issue's target: CPU and GPU at one resolution within 0.5 %.
 const BACKEND_TOLERANCE: f64 = 0.005;
+
+/// The refinement check: the depth at the shipped resolution (factor 1) and at twice it (half
+/// the spacing and element size) within 3 % of each other.
+pub const REFINEMENT: (f64, f64) = (1.0, 0.5);
+const REFINEMENT_TOLERANCE: f64 = 0.03;
 
 /// One convergence run and what it is compared with.
 struct Level<'a> {
@@ -233,8 +238,9 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
     let mut md = format!(
         "The {} m/s shots with the lattice spacing and the element size scaled together by {} \
          (× the Forrestal section's), on {}. The error against the finest run is against the \
-         finest completed run of the same shot and backend. Target: CPU and GPU depths at one \
-         resolution within {:.1} % where both ran{}. Raw data: {csv}.\n\n",
+         finest completed run of the same shot and backend. Targets: the depth at ×{} within \
+         {:.0} % of the depth at ×{} on each backend; CPU and GPU depths at one resolution \
+         within {:.1} % where both ran{}. Raw data: {csv}.\n\n",
         STUDY_SHOTS.map(|v| v.to_string()).join(" and "),
         factors.map(|f| f.to_string()).join(", "),
         ctx.opts
@@ -243,6 +249,9 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
             .map(|&b| b.name())
             .collect::<Vec<_>>()
             .join(" and "),
+        REFINEMENT.1,
+        100.0 * REFINEMENT_TOLERANCE,
+        REFINEMENT.0,
         100.0 * BACKEND_TOLERANCE,
         if checks.is_empty() {
             " (one backend ran: not evaluated)"
@@ -272,11 +281,45 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
     let coarsest = factors.iter().copied().fold(0.0, f64::max);
     let (roundoff_md, roundoff_checks) = roundoff(ctx, &cases, coarsest)?;
     md += &roundoff_md;
-    checks.extend(roundoff_checks);
+    let checks = refinement_checks(&levels)
+        .into_iter()
+        .chain(checks)
+        .chain(roundoff_checks)
+        .collect();
     Ok(SectionOut {
         markdown: md,
         checks,
     })
+}
+
+/// Each shot and backend with both [`REFINEMENT`] levels: the depth at the finer against the
+/// coarser (not evaluated where either did not complete).
+fn refinement_checks(levels: &[Level]) -> Vec<Check> {
+    let (coarse, fine) = REFINEMENT;
+    let mut checks = Vec::new();
+    for l in levels.iter().filter(|l| l.factor == coarse) {
+        let Some(f) = levels.iter().find(|f| {
+            f.factor == fine && f.velocity == l.velocity && f.record.backend == l.record.backend
+        }) else {
+            continue;
+        };
+        let change = l.depth().zip(f.depth()).map(|(c, f)| f / c - 1.0);
+        checks.push(Check {
+            section: Section::Convergence,
+            what: format!(
+                "{} m/s on {}: depth at ×{fine} against ×{coarse} (twice the resolution)",
+                l.velocity,
+                l.record.backend.name()
+            ),
+            target: format!("within {:.0} %", 100.0 * REFINEMENT_TOLERANCE),
+            result: change.map_or_else(
+                || "a run did not complete".to_string(),
+                |c| format!("{:+.1} %", 100.0 * c),
+            ),
+            pass: change.map(|c| c.abs() <= REFINEMENT_TOLERANCE),
+        });
+    }
+    checks
 }
 
 /// Striking-speed nudges of the round-off ensemble, in units in the last place of the f32 the
