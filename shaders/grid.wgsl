@@ -32,3 +32,13 @@ fn grid_cell(g: GridInfo, r: f32, z: f32) -> vec2<u32> {
     let iz = min(u32(max((z - g.z0) / g.cell, 0.0)), g.n_z - 1u);
     return vec2<u32>(ir, iz);
 }
+
+// The cells a neighbour sweep around cell c visits, GRID_REACH each way clipped to the grid:
+// (r_lo, r_hi, z_lo, z_hi), inclusive.
+fn grid_window(g: GridInfo, c: vec2<u32>) -> vec4<u32> {
+    let r_lo = select(c.x - GRID_REACH, 0u, c.x < GRID_REACH);
+    let r_hi = min(c.x + GRID_REACH, g.n_r - 1u);
+    let z_lo = select(c.y - GRID_REACH, 0u, c.y < GRID_REACH);
+    let z_hi = min(c.y + GRID_REACH, g.n_z - 1u);
+    return vec4<u32>(r_lo, r_hi, z_lo, z_hi);
+}

@@ -39,11 +39,11 @@ fn visit(g: ptr<function, Gather>, i: u32, xi: vec2<f32>, j: u32, mirror: bool, 
 fn grid_sweeps(g: ptr<function, Gather>, i: u32, xi: vec2<f32>, s2: f32, real: bool,
                ghosts: bool) {
     let info = grid;
-    let c = grid_cell(info, xi.x, xi.y);
-    let r_lo = select(c.x - GRID_REACH, 0u, c.x < GRID_REACH);
-    let r_hi = min(c.x + GRID_REACH, info.n_r - 1u);
-    let z_lo = select(c.y - GRID_REACH, 0u, c.y < GRID_REACH);
-    let z_hi = min(c.y + GRID_REACH, info.n_z - 1u);
+    let w = grid_window(info, grid_cell(info, xi.x, xi.y));
+    let r_lo = w.x;
+    let r_hi = w.y;
+    let z_lo = w.z;
+    let z_hi = w.w;
     let real_end = select(z_lo, z_hi + 1u, real);
     for (var cz = z_lo; cz < real_end; cz++) {
         let row = cz * info.n_r;

@@ -41,16 +41,12 @@ fn for_each_image(g: ptr<function, Gather>, i: u32, w: Wall) {
     // An overflowed list: the grid's candidates, as neighbour_loop.wgsl's real sweep.
     let overflow = count > NBR_MAX;
     let info = grid;
-    let c = grid_cell(info, xi.x, xi.y);
-    let r_lo = select(c.x - GRID_REACH, 0u, c.x < GRID_REACH);
-    let r_hi = min(c.x + GRID_REACH, info.n_r - 1u);
-    let z_lo = select(c.y - GRID_REACH, 0u, c.y < GRID_REACH);
-    let z_hi = min(c.y + GRID_REACH, info.n_z - 1u);
-    let end_row = select(z_lo, z_hi + 1u, overflow);
-    for (var cz = z_lo; cz < end_row; cz++) {
+    let cells = grid_window(info, grid_cell(info, xi.x, xi.y));
+    let end_row = select(cells.z, cells.w + 1u, overflow);
+    for (var cz = cells.z; cz < end_row; cz++) {
         let row = cz * info.n_r;
-        let end = cell_start[row + r_hi + 1u];
-        for (var k = cell_start[row + r_lo]; k < end; k++) {
+        let end = cell_start[row + cells.y + 1u];
+        for (var k = cell_start[row + cells.x]; k < end; k++) {
             let j = sorted[k];
             if (j != i) {
                 image_visit(g, i, xi, w, j, s2);
