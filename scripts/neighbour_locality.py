@@ -5,9 +5,10 @@ A gather loads each neighbour's data through the neighbour list, so a warp of 32
 particles touches as many 128-byte lines of a field as its neighbours' indices span. This reads
 the particle positions of `penetrate run` target frames (binary VTU, points (r, 0, z)), finds
 every pair within the support 2h, and gives, per frame, the 128-byte lines (32 f32) a warp
-touches loading one field of all its neighbours: in the order the particles are stored, and if
+touches loading one field of all its neighbours: in the order the particles are stored; if
 they were sorted by cell of side h (rows of z, then r, then index), as a list build could sort
-them. Needs numpy.
+them; and if only the data the gathers read of a neighbour were kept in that order, the
+particles (and so the warps) staying as stored. Needs numpy.
 
     python3 scripts/neighbour_locality.py H FRAME.vtu...
 
@@ -54,10 +55,12 @@ def pairs(p, support):
     return np.concatenate(out_i), np.concatenate(out_j)
 
 
-def lines_per_warp(i, j, place):
-    """Distinct (warp, line) pairs over warps: `place[x]` is where particle x is stored."""
+def lines_per_warp(i, j, place, nbr_place=None):
+    """Distinct (warp, line) pairs over warps: `place[x]` is where particle x is stored, and
+    `nbr_place[x]` where its data are read as a neighbour (`place` if None)."""
+    nbr_place = place if nbr_place is None else nbr_place
     warp = place[i] // WARP
-    line = place[j] // LINE
+    line = nbr_place[j] // LINE
     return len(np.unique(warp * (len(place) // LINE + 1) + line)) / len(np.unique(warp))
 
 
@@ -75,7 +78,8 @@ def main():
         print(
             f"{frame}: {n} particles, {len(i) / n:.1f} neighbours each; lines a warp touches "
             f"per field: {lines_per_warp(i, j, index):.1f} as stored, "
-            f"{lines_per_warp(i, j, sorted_place):.1f} sorted by cell"
+            f"{lines_per_warp(i, j, sorted_place):.1f} sorted by cell, "
+            f"{lines_per_warp(i, j, index, sorted_place):.1f} with only the neighbour data sorted"
         )
 
 
