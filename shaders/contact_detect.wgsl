@@ -4,7 +4,8 @@
 // is appended to the hit list with its kinematics and its segment's two nodes' for the
 // read-back. The append order varies between runs; the host sorts the hits by slave index before
 // correcting, so the result does not. After the host's correction `apply` writes back the
-// corrected slaves and the nodes it touched, and adds the global shift to every other node.
+// corrected slaves and the nodes it touched, and adds the global shift to every other node;
+// `recentre` then moves every position as `Model::recentre` does on the host.
 // Needs params.wgsl and step.wgsl.
 
 struct Master {
@@ -39,6 +40,8 @@ struct Master {
 // ascending order (node, r, z, vr, vz)]: the touched nodes' corrected values, the global shift
 // already in them (contact.rs).
 @group(0) @binding(16) var<storage, read> node_fixes: array<u32>;
+// Written by the host for `recentre`: the shift along z.
+@group(0) @binding(17) var<storage, read> recentre_by: array<f32>;
 
 // Twice the signed area of (a, b, p): positive when p is left of a -> b.
 fn orient(a: vec2<f32>, b: vec2<f32>, p: vec2<f32>) -> f32 {
@@ -123,5 +126,19 @@ fn apply(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (shift != 0.0) {
         nvz[k] = nvz[k] + shift;
         nz[k] = nz[k] + bitcast<f32>(node_fixes[2]);
+    }
+}
+
+// Thread k moves particle k and node k along z by the host's shift of the model's origin
+// (`Model::recentre`), after `apply` in the same submission, as the host moves its copies.
+@compute @workgroup_size(WG)
+fn recentre(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x;
+    let by = recentre_by[0];
+    if (k < u.n_particles) {
+        pz[k] = pz[k] + by;
+    }
+    if (k < u.n_nodes) {
+        nz[k] = nz[k] + by;
     }
 }

@@ -171,6 +171,18 @@ fn gpu_runs_are_bit_identical() {
     }
 }
 
+/// From 33 mm in front of the face the model's origin moves with the projectile twice
+/// (`solver::RECENTRE_STEP`: at the start, and again as the nose enters), on the GPU in the
+/// step's second half as on the host: the depth, measured in the world, is the CPU's.
+#[test]
+#[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
+fn gpu_moves_the_origin_as_the_cpu_does() {
+    let dir = std::env::temp_dir().join(format!("penetrate-test-{}-origin", std::process::id()));
+    let (cpu, gpu) = short_penetration(&["projectile.nose_z=0.033", "run.end_time=2e-4"], &dir);
+    assert!(cpu.summary.depth_m > 0.0 && gpu.summary.depth_m > 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A short penetration run ends at the CPU's depth within 0.5 %, writes a summary that names
 /// the GPU and lists each pass with its side, and books the contact's impulse, in all and on
 /// the nose, as the CPU does.

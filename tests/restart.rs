@@ -79,6 +79,14 @@ fn a_killed_run_with_wall_images_restarted_ends_as_if_never_stopped() {
     killed_and_restarted("images", &["contact.kernel=\"images\""]);
 }
 
+/// The same from 33 mm in front of the face: the model's origin, moved with the projectile at
+/// the start (`solver::RECENTRE_STEP`), comes with the checkpoint, and moves again after it as
+/// the nose enters.
+#[test]
+fn a_killed_run_with_a_moving_origin_restarted_ends_as_if_never_stopped() {
+    killed_and_restarted("origin", &["projectile.nose_z=0.033"]);
+}
+
 /// Runs the smoke scene with `extra` whole, and killed after its first checkpoint and
 /// restarted, and checks that the two end with the same outputs.
 fn killed_and_restarted(name: &str, extra: &[&str]) {

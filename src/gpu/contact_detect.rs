@@ -27,6 +27,7 @@ pub const EMPTY_BOX: [u32; 4] = [float_key(0.0), float_key(f32::MAX), float_key(
 pub struct ContactPass {
     detect: Kernel,
     apply: Kernel,
+    recentre: Kernel,
     /// One bind group for each parity of the integration the box is from.
     binds: [wgpu::BindGroup; 2],
     /// The projectile's bounding box after the integration of each parity (integrate.wgsl).
@@ -37,8 +38,11 @@ pub struct ContactPass {
     pub hit_data: wgpu::Buffer,
     pub fixes: wgpu::Buffer,
     node_fixes: wgpu::Buffer,
+    /// The host's shift of every position along z for `recentre` (`Model::recentre`).
+    recentre_by: wgpu::Buffer,
     n_slaves: u32,
     n_nodes: u32,
+    n_particles: u32,
 }
 
 /// `hit_data`'s entries per hit: the slave, node A, node B.
@@ -74,6 +78,7 @@ impl ContactPass {
         let fixes = gpu.zeros::<u32>("contact fixes", 1 + 5 * n);
         let node_fixes = gpu.zeros::<u32>("contact node fixes", 3 + 5 * nodes.len);
         let box_keys = gpu.buffer("projectile box", &[EMPTY_BOX, EMPTY_BOX]);
+        let recentre_by = gpu.zeros::<f32>("recentre shift", 1);
         let detect = kernel("detect")?;
         let bind = |slot: u32| {
             detect.bind(
@@ -91,6 +96,7 @@ impl ContactPass {
                     ("nvr", &nodes.vr),
                     ("nvz", &nodes.vz),
                     ("node_fixes", &node_fixes),
+                    ("recentre_by", &recentre_by),
                     ("hits", &hits),
                     ("hit_data", &hit_data),
                     ("fixes", &fixes),
@@ -103,14 +109,17 @@ impl ContactPass {
         Ok(ContactPass {
             detect,
             apply: kernel("apply")?,
+            recentre: kernel("recentre")?,
             binds,
             box_keys,
             hits,
             hit_data,
             fixes,
             node_fixes,
+            recentre_by,
             n_slaves: n as u32,
             n_nodes: nodes.len as u32,
+            n_particles: particles.len as u32,
         })
     }
 
@@ -130,6 +139,17 @@ impl ContactPass {
             slaves
         };
         self.apply.dispatch(pass, &self.binds[0], items);
+    }
+
+    /// Move every particle and node by what `write_recentre` wrote, after `apply`.
+    pub fn record_recentre(&self, pass: &mut wgpu::ComputePass) {
+        self.recentre
+            .dispatch(pass, &self.binds[0], self.n_particles.max(self.n_nodes));
+    }
+
+    /// The shift of every position along z for the next `recentre`.
+    pub fn write_recentre(&self, gpu: &Gpu, by: f32) {
+        gpu.write(&self.recentre_by, &[by]);
     }
 
     /// The host's correction, as `fixes` and `node_fixes` hold it.

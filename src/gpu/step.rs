@@ -115,6 +115,8 @@ pub struct GpuStep {
     /// was (`ContactPass::write_fixes`).
     pending_fixes: u32,
     pending_nodes: bool,
+    /// Whether the host moved the model's origin (`recentre`) for the next submission.
+    pending_recentre: bool,
     /// The second half of the last step (forces, Δt) has not been recorded yet.
     pending_forces: bool,
     /// How far a particle may move from where the neighbour lists were built before they must
@@ -445,6 +447,7 @@ impl GpuStep {
             n_nodes: nn as usize,
             pending_fixes: 0,
             pending_nodes: false,
+            pending_recentre: false,
             pending_forces: false,
             list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
             since_build: f32::INFINITY,
@@ -541,6 +544,9 @@ impl GpuStep {
         let sph = self.sph.as_ref();
         if let Some(c) = sph.and_then(|s| s.contact.as_ref()) {
             c.record_apply(pass, self.pending_fixes, self.pending_nodes);
+            if self.pending_recentre {
+                c.record_recentre(pass);
+            }
         }
         self.mark(pass, 1);
         // Each pass's timestamp slot is its place in PROFILED; a pass the scene lacks gets its
@@ -695,6 +701,7 @@ impl GpuStep {
         self.pending_forces = true;
         self.pending_fixes = 0;
         self.pending_nodes = false;
+        self.pending_recentre = false;
         // The Δt's source is the clock only before the first fold, at parity 0.
         debug_assert!(dt_source != DT_FROM_CLOCK || self.dt_slot == 0);
         self.dt_slot = 1 - self.dt_slot;
@@ -767,6 +774,18 @@ impl GpuStep {
             self.pending_fixes = fixes.slaves.len() as u32;
             self.pending_nodes = true;
             self.since_build += moved;
+        }
+        self.charge(Some(Charge::Step), false);
+    }
+
+    /// Move every position by `by` along z in the next submission's second half, after the
+    /// correction's `apply`, as `Model::recentre` moves the host's: the neighbour lists are
+    /// built again there, from the moved positions.
+    pub fn recentre(&mut self, by: f32) {
+        if let Some(c) = self.sph.as_ref().and_then(|s| s.contact.as_ref()) {
+            c.write_recentre(&self.gpu, by);
+            self.pending_recentre = true;
+            self.since_build = f32::INFINITY;
         }
         self.charge(Some(Charge::Step), false);
     }

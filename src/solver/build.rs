@@ -86,6 +86,7 @@ impl Model {
             fem_limited: false,
             account: Account::default(),
             last_hits: 0,
+            origin: scene.origin_z(),
             wall_z: scene.wall.as_ref().map(|_| 0.0),
             escape: (20.0 * extent) as f32,
             shank,

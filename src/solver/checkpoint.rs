@@ -16,8 +16,8 @@
 //! | … | payload |
 //!
 //! The payload, in order: the solver build that wrote it (`output::summary::build_id`), the
-//! resolved scene (`Scene::resolved_table`); the model's time, step, next Δt and last hit
-//! count, its [`Account`]; every array of the particles, the projectile's nodes and its
+//! resolved scene (`Scene::resolved_table`); the model's time, step, next Δt, last hit count
+//! and origin, its [`Account`]; every array of the particles, the projectile's nodes and its
 //! elements, in their structs' field order; the wall images' last sums per master segment
 //! (`Model::walls`: the reaction the next integration books; none without images); the run
 //! loop's [`Counters`]; where `history.csv` stood ([`Mark`]); the entries of `frames.pvd`, or
@@ -46,7 +46,7 @@ use crate::state::{Elements, Nodes, Particles};
 
 /// The format's version: raised whenever the payload changes, so that an older file is
 /// refused by name rather than misread.
-pub const VERSION: u32 = 6;
+pub const VERSION: u32 = 7;
 
 const MAGIC: [u8; 8] = *b"PENETRST";
 
@@ -79,6 +79,8 @@ pub struct State {
     /// The next step's Δt (s), evaluated at the end of the last one.
     pub dt: f32,
     pub last_hits: usize,
+    /// World z of the model's z = 0 (`Model::recentre`), m.
+    pub origin: f64,
     pub account: Account,
     pub particles: Particles,
     pub nodes: Nodes,
@@ -112,6 +114,7 @@ struct Parts<'a> {
     step: u64,
     dt: f32,
     last_hits: usize,
+    origin: f64,
     account: &'a Account,
     particles: &'a Particles,
     nodes: &'a Nodes,
@@ -138,6 +141,7 @@ impl<'a> Parts<'a> {
             step: m.step,
             dt: m.dt,
             last_hits: m.last_hits,
+            origin: m.origin,
             account: &m.account,
             particles: &m.particles,
             nodes: &m.projectile.nodes,
@@ -159,6 +163,7 @@ impl<'a> Parts<'a> {
         self.step.put(w);
         self.dt.put(w);
         self.last_hits.put(w);
+        self.origin.put(w);
         self.account.put(w);
         self.particles.put(w);
         self.nodes.put(w);
@@ -189,6 +194,7 @@ impl Checkpoint {
             step: s.step,
             dt: s.dt,
             last_hits: s.last_hits,
+            origin: s.origin,
             account: &s.account,
             particles: &s.particles,
             nodes: &s.nodes,
@@ -246,6 +252,7 @@ impl Checkpoint {
             step: Get::get(r)?,
             dt: Get::get(r)?,
             last_hits: Get::get(r)?,
+            origin: Get::get(r)?,
             account: Get::get(r)?,
             particles: Get::get(r)?,
             nodes: Get::get(r)?,
@@ -370,6 +377,7 @@ impl Restart {
         // Which side set Δt is not stored; the state it was taken from is.
         model.least_steps();
         model.last_hits = s.last_hits;
+        model.origin = s.origin;
         model.account = std::mem::take(&mut s.account);
         // No neighbour grid: the CPU step builds its own before the gathers read it, and the
         // GPU never reads the host's.

@@ -8,6 +8,10 @@ use crate::gpu::step::Sync;
 use crate::scene::ContactSpec;
 use crate::state::Projectile;
 
+/// The model's z = 0 follows the projectile through a target in steps of this much (m): a power
+/// of two, so that a shift moves the positions it keeps small without rounding them.
+pub const RECENTRE_STEP: f32 = 0.03125;
+
 /// The CPU reference path: every pass in plain Rust on the host's state, which is therefore
 /// never stale.
 pub struct CpuStepper;
@@ -66,6 +70,9 @@ impl Model {
                 _ => {}
             }
         }
+        if let Some(by) = self.recentre_by() {
+            self.recentre(by);
+        }
         self.forces(dt)?;
         self.time += dt as f64;
         self.step += 1;
@@ -88,7 +95,7 @@ impl Model {
                 self.account.nose_impulse += impulse;
             }
         }
-        let origin = self.scene.origin_z();
+        let origin = self.origin;
         let blowup = |b: cpu::integrate::Blowup, when: When| {
             RunError::from(Instability {
                 what: Unstable::Entity {
@@ -127,7 +134,7 @@ impl Model {
     /// `dt` (0 at start-up).
     pub(super) fn forces(&mut self, dt: f32) -> Result<(), RunError> {
         let when = self.when();
-        let origin = self.scene.origin_z();
+        let origin = self.origin;
         for pass in self.passes.iter().filter(|p| p.is_force()) {
             let (p, n, sph) = (&mut self.particles, &mut self.projectile, self.sph.as_ref());
             let w = &mut self.walls;
@@ -183,6 +190,33 @@ impl Model {
             }
         }
         Ok(())
+    }
+
+    /// How far to move every position along z, after a step's correction, to bring the
+    /// projectile's tip back within `RECENTRE_STEP` of the model's z = 0: None while it is
+    /// there, and in a scene without a target's contact (a Taylor bar's wall is the origin).
+    /// Why: near z = 0 f32 positions resolve a step's motion finely (docs/physics.md §5).
+    pub(super) fn recentre_by(&self) -> Option<f32> {
+        if self.wall_z.is_some() || !self.has(Pass::ContactDetect) {
+            return None;
+        }
+        let tip = self
+            .projectile
+            .nodes
+            .z
+            .iter()
+            .copied()
+            .fold(f32::MAX, f32::min);
+        let steps = (tip / RECENTRE_STEP).trunc();
+        (steps != 0.0 && steps.is_finite()).then_some(-steps * RECENTRE_STEP)
+    }
+
+    /// Move every particle and node by `by` along z and the model's origin the other way: the
+    /// world's positions stay where they are.
+    pub(super) fn recentre(&mut self, by: f32) {
+        self.particles.z.iter_mut().for_each(|z| *z += by);
+        self.projectile.nodes.z.iter_mut().for_each(|z| *z += by);
+        self.origin -= by as f64;
     }
 
     /// The next Δt, noting in `fem_limited` whether the elements set it.

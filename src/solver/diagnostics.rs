@@ -35,7 +35,7 @@ impl Model {
         }
         BodyBounds {
             depth: match self.scene.target {
-                Some(_) => (-(z_min as f64)).max(0.0),
+                Some(_) => (-self.world_z(z_min)).max(0.0),
                 None => 0.0,
             },
             length: (z_max - z_min) as f64,
@@ -133,8 +133,8 @@ impl Model {
                     .z
                     .iter()
                     .copied()
-                    .fold(f32::MIN, f32::max) as f64;
-                if z_max < -t.thickness {
+                    .fold(f32::MIN, f32::max);
+                if self.world_z(z_max) < -t.thickness {
                     return Some(crate::output::summary::PERFORATED);
                 }
             }
@@ -181,7 +181,7 @@ impl Model {
         let p = &self.particles;
         let mut out = [0.0; 2];
         for (&z, &m) in p.z.iter().zip(&p.mass) {
-            let z = f64::from(z);
+            let z = self.world_z(z);
             if z > t.spacing {
                 out[0] += f64::from(m);
             } else if z < -t.thickness - t.spacing {

@@ -187,6 +187,12 @@ impl Model {
                 g.correct(&fixes, moved);
             }
         }
+        // After the correction, as the CPU's step does it; the GPU moves its state in the
+        // next submission's second half, and the host's copies here.
+        if let Some(by) = self.recentre_by() {
+            self.recentre(by);
+            g.recentre(by);
+        }
         self.time += dt as f64;
         self.step += 1;
         self.dt = dt;

@@ -21,7 +21,7 @@ mod run;
 pub use account::ENERGY_GUARD;
 pub use build::{auto_gpu, build, resolve};
 pub use checkpoint::{Checkpoint, Counters, FrameEntry, Refusal, RestartError, State, VERSION};
-pub use cpu_step::MIN_STEP;
+pub use cpu_step::{MIN_STEP, RECENTRE_STEP};
 pub use error::{
     Entity, Instability, Kept, Moving, Output, OutputError, OutputFailure, RunError, Unstable, When,
 };
@@ -150,6 +150,9 @@ pub struct Model {
     pub fem_limited: bool,
     pub account: Account,
     pub last_hits: usize,
+    /// World z of the model's z = 0: the scene's origin ([`Scene::origin_z`]) at the start,
+    /// then moved with the projectile in a target ([`Model::recentre`]).
+    origin: f64,
     /// The wall, a Taylor scene's: the model's z = 0 ([`Scene::origin_z`]).
     wall_z: Option<f32>,
     escape: f32,

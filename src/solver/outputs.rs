@@ -104,9 +104,9 @@ impl Model {
         }
     }
 
-    /// World z of a model position ([`Scene::origin_z`]).
+    /// World z of a model position ([`Model::recentre`]).
     pub(super) fn world_z(&self, z: f32) -> f64 {
-        z as f64 + self.scene.origin_z()
+        z as f64 + self.origin
     }
 
     /// Passes that ran, with the side they ran on.

@@ -185,15 +185,9 @@ pub fn study(scene: &Scene, times: &[f64], band: f32) -> Result<Vec<Snapshot>, R
             sim.step()?;
         }
         let model = sim.model()?;
-        let tip = model
-            .projectile
-            .nodes
-            .z
-            .iter()
-            .fold(f32::MAX, |a, &b| a.min(b));
         out.push(Snapshot {
             time: model.time,
-            depth: -tip as f64,
+            depth: model.depth(),
             speed: -model.projectile_velocity(),
             nose_impulse: model.account.nose_impulse,
             lining: lining(model, band),

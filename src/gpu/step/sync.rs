@@ -46,6 +46,7 @@ impl GpuStep {
             self.pending_forces = false;
             self.pending_fixes = 0;
             self.pending_nodes = false;
+            self.pending_recentre = false;
             self.folded = true;
         }
     }
