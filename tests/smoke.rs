@@ -886,6 +886,24 @@ fn cli_rejects_bad_input_without_panicking() {
             .unwrap_or_else(|| panic!("no lattice line: {text}"))
             .to_string()
     };
+    // A mesh finer than ¾ of the lattice's spacing is warned about; the shipped ¾ is not.
+    let report = |sets: &[&str]| {
+        let mut cmd = Command::new(bin);
+        cmd.args([
+            "check",
+            &case("forrestal1994-642.toml").display().to_string(),
+        ]);
+        for s in sets {
+            cmd.args(["--set", s]);
+        }
+        String::from_utf8_lossy(&cmd.output().unwrap().stdout).to_string()
+    };
+    assert!(!report(&[]).contains("# contact: "));
+    let fine = report(&["projectile.element_size=0.0015"]);
+    assert!(
+        fine.contains("# contact: elements of 1.50 mm against particles 4.00 mm apart"),
+        "{fine}"
+    );
     let grazing = column_line(&["contact.lambda=0", "target.spacing=0.003"]);
     assert!(
         grazing.contains("r = 13.500 mm, 0.050 mm outside") && grazing.contains("amplifies"),
