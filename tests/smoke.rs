@@ -867,39 +867,32 @@ fn cli_rejects_bad_input_without_panicking() {
         text.contains("; not above 1e-13 s, under which a run takes its step as collapsed"),
         "{text}"
     );
-    // The lattice column nearest the shank: at 3 mm spacing the one at 13.5 mm grazes the
-    // 13.45 mm shank, which a rigid projectile's run is warned about; at 3.1 mm it is 0.5 mm off.
-    let column_line = |sets: &[&str]| {
+    // `check` on a shipped case with `sets`: its report.
+    let report = |case_name: &str, sets: &[&str]| {
         let mut cmd = Command::new(bin);
-        cmd.args([
-            "check",
-            &case("forrestal1994-277.toml").display().to_string(),
-        ]);
+        cmd.args(["check", &case(case_name).display().to_string()]);
         for s in sets {
             cmd.args(["--set", s]);
         }
         let out = cmd.output().unwrap();
         assert!(out.status.success());
-        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    // The lattice column nearest the shank: at 3 mm spacing the one at 13.5 mm grazes the
+    // 13.45 mm shank, which a rigid projectile's run is warned about; at 3.1 mm it is 0.5 mm off.
+    let column_line = |sets: &[&str]| {
+        let text = report("forrestal1994-277.toml", sets);
         text.lines()
             .find(|l| l.starts_with("# lattice: "))
             .unwrap_or_else(|| panic!("no lattice line: {text}"))
             .to_string()
     };
     // A mesh finer than ¾ of the lattice's spacing is warned about; the shipped ¾ is not.
-    let report = |sets: &[&str]| {
-        let mut cmd = Command::new(bin);
-        cmd.args([
-            "check",
-            &case("forrestal1994-642.toml").display().to_string(),
-        ]);
-        for s in sets {
-            cmd.args(["--set", s]);
-        }
-        String::from_utf8_lossy(&cmd.output().unwrap().stdout).to_string()
-    };
-    assert!(!report(&[]).contains("# contact: "));
-    let fine = report(&["projectile.element_size=0.0015"]);
+    assert!(!report("forrestal1994-642.toml", &[]).contains("# contact: "));
+    let fine = report(
+        "forrestal1994-642.toml",
+        &["projectile.element_size=0.0015"],
+    );
     assert!(
         fine.contains("# contact: elements of 1.50 mm against particles 4.00 mm apart"),
         "{fine}"
@@ -919,13 +912,7 @@ fn cli_rejects_bad_input_without_panicking() {
     // A Taylor bar has no target and so no SPH step; its step does not depend on where its
     // wall is (the mesh is built at the model's origin, as the run builds it).
     let step_line = |wall_z: &str| {
-        let out = Command::new(bin)
-            .args(["check", &case("taylor-4340-208.toml").display().to_string()])
-            .args(["--set", &format!("wall.z={wall_z}")])
-            .output()
-            .unwrap();
-        assert!(out.status.success());
-        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        let text = report("taylor-4340-208.toml", &[&format!("wall.z={wall_z}")]);
         assert!(
             text.contains(&format!("# target: none, a rigid wall at z = {wall_z} m")),
             "{text}"
