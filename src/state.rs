@@ -1,7 +1,7 @@
 //! Simulation state as structures of arrays (f32), laid out as the GPU buffers will be.
 //! Global sums (time, energies, momenta) are kept in f64 by the solver, not here.
 
-use crate::materials::flow::Strength;
+use crate::materials::flow::{flow_stress, Strength};
 use crate::materials::hjc::Hjc;
 use crate::materials::johnson_cook::JcDamage;
 use crate::materials::steel_eos::PolyEos;
@@ -329,13 +329,40 @@ impl Elements {
     /// else a smooth field gives little and a cell whose triangles take alternating volumes
     /// its pressure swing. 0 without such cells.
     pub fn max_checkerboard(&self) -> f32 {
-        self.intact_quads()
-            .into_iter()
-            .map(|c| {
-                let p = &self.p[c];
-                ((p[0] - p[1] + p[2] - p[3]) / 4.0).abs()
+        self.pressure_alternations()
+            .map(|(_, swing)| swing)
+            .fold(0.0, f32::max)
+    }
+
+    /// The largest pressure checkerboard of a cell as a fraction of the cell's strength: the
+    /// mean of its triangles' quasi-static flow stress (at their plastic strain and
+    /// temperature, the reference strain rate), the scale against which a spurious mode has to
+    /// be small. Cells with no strength left (at melt) are left out. 0 without such cells.
+    pub fn max_checkerboard_over_flow(&self, strength: &Strength) -> f32 {
+        self.pressure_alternations()
+            .filter_map(|(c, swing)| {
+                let flow = c
+                    .map(|e| {
+                        flow_stress(
+                            strength,
+                            self.eps_p[e],
+                            strength.eps_rate_ref,
+                            self.temperature[e],
+                        )
+                    })
+                    .sum::<f32>()
+                    / 4.0;
+                (flow > 0.0).then(|| swing / flow)
             })
             .fold(0.0, f32::max)
+    }
+
+    /// Each intact cell's elements and pressure checkerboard |p₀ − p₁ + p₂ − p₃|/4 (Pa).
+    fn pressure_alternations(&self) -> impl Iterator<Item = (std::ops::Range<usize>, f32)> + '_ {
+        self.intact_quads().into_iter().map(|c| {
+            let p = &self.p[c.clone()];
+            (c, ((p[0] - p[1] + p[2] - p[3]) / 4.0).abs())
+        })
     }
 }
 
@@ -519,5 +546,53 @@ mod tests {
         };
         assert_eq!(e.max_checkerboard(), 1.0e9);
         assert_eq!(Elements::default().max_checkerboard(), 0.0);
+    }
+
+    /// The same three cells against a Johnson–Cook flow stress A + B ε_p^n (no rate term at
+    /// the reference rate, none of the temperature at room temperature): the first cell at
+    /// ε_p = 0 (σ_y = A = 2 GPa) swings 0.5 of it, the second none; with the first cell's
+    /// strain at 1, σ_y = A + B = 4 GPa and the ratio halves; at melt the cell has no strength
+    /// and is left out.
+    #[test]
+    fn checkerboard_over_flow_divides_by_the_cells_flow_stress() {
+        use crate::materials::flow::FlowLaw;
+        use crate::materials::johnson_cook::JcFlow;
+        let strength = Strength {
+            law: FlowLaw::JohnsonCook(JcFlow {
+                a: 2.0e9,
+                b: 2.0e9,
+                n: 0.5,
+                c: 0.1,
+                m: 1.0,
+            }),
+            eps_rate_ref: 1.0,
+            t_room: 300.0,
+            t_melt: 1800.0,
+        };
+        let cell = |c: u32| {
+            [
+                [c, c + 1, 99 + c],
+                [c + 1, c + 2, 99 + c],
+                [c + 2, c + 3, 99 + c],
+                [c + 3, c, 99 + c],
+            ]
+        };
+        let mut e = Elements {
+            nodes: [cell(0), cell(10)].concat(),
+            p: vec![3.0e9, 1.0e9, 3.0e9, 1.0e9, 5.0e9, 5.0e9, 5.0e9, 5.0e9],
+            failed: vec![0; 8],
+            eps_p: vec![0.0; 8],
+            temperature: vec![300.0; 8],
+            ..Elements::default()
+        };
+        assert_eq!(e.max_checkerboard_over_flow(&strength), 0.5);
+        e.eps_p[..4].fill(1.0);
+        assert_eq!(e.max_checkerboard_over_flow(&strength), 0.25);
+        e.temperature[..4].fill(1800.0);
+        assert_eq!(e.max_checkerboard_over_flow(&strength), 0.0);
+        assert_eq!(
+            Elements::default().max_checkerboard_over_flow(&strength),
+            0.0
+        );
     }
 }

@@ -65,7 +65,11 @@ fn quick_validation_writes_every_section() {
     for title in [
         "## Checks",
         "## Taylor bars",
+        "taylor-copper-190 mushroom diameter",
+        "pressure checkerboard at the end against the cell's flow stress, the checked bars at \
+         the shipped mesh and finer",
         "## Forrestal et al. (1994) shots",
+        "energy error at the end, every shot",
         "## CRH 3 rods into concrete and grout",
         "every penetration shot (10), all sets",
         "## Target size",

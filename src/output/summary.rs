@@ -79,6 +79,11 @@ pub struct Summary {
     /// (`Elements::max_volume_checkerboard`). 0 in summaries written before it existed.
     #[serde(default)]
     pub volume_checkerboard: f64,
+    /// Largest pressure checkerboard in a cell at the end as a fraction of the cell's
+    /// quasi-static flow stress (`Elements::max_checkerboard_over_flow`). Absent from
+    /// summaries written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkerboard_over_flow_stress: Option<f64>,
     pub final_length_m: f64,
     pub max_radius_m: f64,
     /// Axial impulse the contact gave the projectile over the run (N s, +z against a flight
@@ -206,6 +211,7 @@ impl Summary {
             && self.min_dt_s <= self.max_dt_s
             && damage(self.max_damage)
             && damage(self.max_damage_shank)
+            && self.checkerboard_over_flow_stress.is_none_or(not_negative)
     }
 }
 

@@ -157,6 +157,11 @@ impl Model {
                 .elements
                 .max_volume_checkerboard(&self.projectile.nodes)
                 as f64,
+            checkerboard_over_flow_stress: Some(
+                self.projectile
+                    .elements
+                    .max_checkerboard_over_flow(&self.fem.strength) as f64,
+            ),
             final_length_m: body.length,
             max_radius_m: body.radius,
             contact_impulse_n_s: a.contact_impulse,

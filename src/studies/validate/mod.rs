@@ -21,6 +21,7 @@ pub mod bisect;
 mod context;
 mod convergence;
 pub mod data;
+mod end_state;
 pub mod forrestal;
 mod frame;
 mod lining;

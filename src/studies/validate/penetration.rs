@@ -10,8 +10,8 @@ use crate::studies::sweep::{self, RunRecord};
 
 use super::context::{Ask, Context};
 use super::data::{self, Shot};
-use super::forrestal;
 use super::report::{or_dash, pct, table, Check, SectionOut};
+use super::{end_state, forrestal};
 use super::{Section, ValidateError};
 
 /// The shots of the convergence and rigid-against-elastic studies (m/s), as the issue names
@@ -418,9 +418,9 @@ fn depth_section(
         "Each shot's scene ({}) as shipped{}, on {}. Parameter set: projectile material preset \
          `{}`, λ = {}, concrete from the f_c rule, {}; {}. {assumed}Forrestal's equation \
          (physics.md §8) takes the measured mass and f_c, the scene's shank radius, CRH and \
-         concrete density. Target: every shot within {:.0} %. Mean absolute error of the \
-         simulation {:.1} % over {} shot(s) that completed, of the equation {:.1} %. Raw data: \
-         {csv}.\n\n",
+         concrete density. Targets: every shot within {:.0} % and, at its end, {}. Mean \
+         absolute error of the simulation {:.1} % over {} shot(s) that completed, of the \
+         equation {:.1} %. Raw data: {csv}.\n\n",
         files.join(", "),
         if ctx.settings.quick {
             " with the quick overrides"
@@ -448,6 +448,7 @@ fn depth_section(
              parameter set**"
         },
         100.0 * SHOT_TOLERANCE,
+        end_state::targets(),
         100.0 * mean_abs(&complete),
         complete.len(),
         100.0 * mean_abs(&equation_errors),
@@ -488,10 +489,14 @@ fn depth_section(
     );
     md += &plot;
     md += &resistance;
+    let runs: Vec<&RunRecord> = records.iter().collect();
+    let checks = std::iter::once(check)
+        .chain(end_state::checks(section, "every shot", &runs))
+        .collect();
     Ok((
         SectionOut {
             markdown: md,
-            checks: vec![check],
+            checks,
         },
         errors,
     ))
