@@ -169,33 +169,8 @@ impl Field<'_> {
     /// m̃_j/ρ_i for m̃_j/ρ_j and uncorrected, where `conjugate`. And i's hoop weight
     /// `n_i = Σ_j m̃_j (w_i + w_j − 2 r_i) ∂_r W_ij / ρ_i` (w = ±r as in `sph_forces`).
     pub(crate) fn gradient(&self, i: usize, vr: &[f32], vz: &[f32]) -> ([f32; 4], f32) {
-        let mut g = [0.0f32; 4]; // G_rr, G_rz, G_zr, G_zz
-        let mut m = [0.0f32; 4]; // M_rr, M_rz, M_zr, M_zz
+        let mut sums = GradientSums::default();
         let ri = hoop_radius(self.r[i], self.h);
-        let mut weight = 0.0f32;
-        // One pair's terms, a neighbour's (or its axis ghost's) or an image's: partner j at
-        // x_i − x_j = (dr, dz) with velocity (vr_j, vz_j) in the pair's frame and ring weight
-        // sum w_i + w_j − 2 r_i.
-        let mut pair =
-            |j: usize, (dr, dz): (f32, f32), gw: [f32; 2], (vrj, vzj): (f32, f32), w_sum: f32| {
-                let area = if self.conjugate {
-                    self.area[j] * self.rho[j] / self.rho[i]
-                } else {
-                    self.area[j]
-                };
-                let dvr = vrj - vr[i];
-                let dvz = vzj - vz[i];
-                // x_j − x_i = −(dr, dz)
-                g[0] += area * dvr * gw[0];
-                g[1] += area * dvr * gw[1];
-                g[2] += area * dvz * gw[0];
-                g[3] += area * dvz * gw[1];
-                m[0] -= area * dr * gw[0];
-                m[1] -= area * dr * gw[1];
-                m[2] -= area * dz * gw[0];
-                m[3] -= area * dz * gw[1];
-                weight += self.m_tilde[j] * w_sum * gw[0];
-            };
         for nb in self.grid.neighbours(i) {
             let j = nb.j();
             let sign = if nb.mirror() { -1.0 } else { 1.0 };
@@ -203,18 +178,80 @@ impl Field<'_> {
             // A mirror ghost: radial velocity reversed, w = −r.
             let vrj = if nb.mirror() { -vr[j] } else { vr[j] };
             let w_sum = sign * ri + sign * rj - 2.0 * ri;
-            pair(j, (nb.dr, nb.dz), nb.grad(), (vrj, vz[j]), w_sum);
+            sums.pair(
+                self,
+                i,
+                vr,
+                vz,
+                j,
+                (nb.dr, nb.dz),
+                nb.grad(),
+                (vrj, vz[j]),
+                w_sum,
+            );
         }
         if let Some(wall) = self.walls.map(|w| w[i]).filter(|w| w.on()) {
             wall.images(i, self.r, self.z, self.grid, self.kernel, |im| {
                 // Moving as its source mirrored in the wall's frame, w = r of its own radius.
                 let rg = hoop_radius(im.r, self.h);
                 let v = wall.velocity(vr[im.j], vz[im.j]);
-                pair(im.j, (im.dr, im.dz), im.grad, v, rg - ri);
+                sums.pair(self, i, vr, vz, im.j, (im.dr, im.dz), im.grad, v, rg - ri);
             });
         }
+        let GradientSums { g, m, weight } = sums;
         let l = if self.conjugate { g } else { correct(g, m) };
         (l, weight / self.rho[i])
+    }
+}
+
+/// The sums of `Field::gradient` at one particle.
+#[derive(Default)]
+struct GradientSums {
+    /// G_rr, G_rz, G_zr, G_zz.
+    g: [f32; 4],
+    /// M_rr, M_rz, M_zr, M_zz.
+    m: [f32; 4],
+    /// The hoop weight's sum.
+    weight: f32,
+}
+
+impl GradientSums {
+    /// One pair's terms at particle i, a neighbour's (or its axis ghost's) or an image's:
+    /// partner j at x_i − x_j = (dr, dz) with velocity (vr_j, vz_j) in the pair's frame and
+    /// ring weight sum w_i + w_j − 2 r_i. Inlined by force, as `sph_forces::pair_term`: a
+    /// closure called from the neighbour and the image loops was left out of line.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn pair(
+        &mut self,
+        field: &Field,
+        i: usize,
+        vr: &[f32],
+        vz: &[f32],
+        j: usize,
+        (dr, dz): (f32, f32),
+        gw: [f32; 2],
+        (vrj, vzj): (f32, f32),
+        w_sum: f32,
+    ) {
+        let (g, m) = (&mut self.g, &mut self.m);
+        let area = if field.conjugate {
+            field.area[j] * field.rho[j] / field.rho[i]
+        } else {
+            field.area[j]
+        };
+        let dvr = vrj - vr[i];
+        let dvz = vzj - vz[i];
+        // x_j − x_i = −(dr, dz)
+        g[0] += area * dvr * gw[0];
+        g[1] += area * dvr * gw[1];
+        g[2] += area * dvz * gw[0];
+        g[3] += area * dvz * gw[1];
+        m[0] -= area * dr * gw[0];
+        m[1] -= area * dr * gw[1];
+        m[2] -= area * dz * gw[0];
+        m[3] -= area * dz * gw[1];
+        self.weight += field.m_tilde[j] * w_sum * gw[0];
     }
 }
 
