@@ -338,10 +338,10 @@ fn pair_term(
     }
     if params.art_stress_eps > 0.0 {
         let (ri_art, rj_art) = (own.art, art_j());
-        let f = (params.kernel.w(q.dist) / params.w_spacing).powf(params.art_stress_n);
-        t[0] += f * (wi * ri_art[0] + wj * rj_art[0]);
-        t[1] += f * (wi * ri_art[1] + wj * rj_art[1]);
-        t[2] += f * (wi * ri_art[2] + wj * rj_art[2]);
+        let f_n = (params.kernel.w(q.dist) / params.w_spacing).powf(params.art_stress_n);
+        t[0] += f_n * (wi * ri_art[0] + wj * rj_art[0]);
+        t[1] += f_n * (wi * ri_art[1] + wj * rj_art[1]);
+        t[2] += f_n * (wi * ri_art[2] + wj * rj_art[2]);
     }
     let pair = [
         mj * (t[0] * gw[0] + t[2] * gw[1]),
