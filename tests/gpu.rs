@@ -548,6 +548,8 @@ fn batched_sweep_runs_equal_their_solo_runs() {
             adapter: adapter.clone(),
             vtk: true,
             batch,
+            checkpoint: false,
+            restart: false,
         };
         let out = root.join(name);
         let planned = sweep::plan_sweep(

@@ -314,6 +314,100 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// A validation killed outright in a run (SIGKILL, as when a machine goes away) goes on from
+/// that run's last checkpoint with `--resume`: the run's `history.csv` is written on, not
+/// written again (a hard link to it sees the finished rows), and ends as the same run never
+/// stopped; its checkpoint is gone once it completes. Without `--resume` it starts afresh.
+#[test]
+fn a_killed_validation_goes_on_from_its_checkpoint() {
+    use std::os::unix::process::ExitStatusExt as _;
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let whole = scratch("resume-whole");
+    let done = quick_only("cpu", "forrestal", &whole);
+    assert!(done.status.success(), "{done:?}");
+    let killed = scratch("resume-killed");
+    let held = scratch("resume-held").join("history.csv");
+    std::fs::create_dir_all(held.parent().unwrap()).unwrap();
+    let validate = |resume: bool| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_penetrate"));
+        c.args([
+            "validate",
+            "--quick",
+            "--backend",
+            "cpu",
+            "--only",
+            "forrestal",
+        ])
+        .arg("--out")
+        .arg(&killed)
+        .arg("--data")
+        .arg(data());
+        if resume {
+            c.arg("--resume");
+        }
+        c
+    };
+    // Kills a validation once one of its runs has a checkpoint; holds that run's history.csv
+    // by a hard link and returns the run's folder.
+    let kill = || -> PathBuf {
+        let mut child = validate(false)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let runs = killed.join("forrestal").join("runs");
+        let start = Instant::now();
+        let run = loop {
+            let saved = std::fs::read_dir(&runs).into_iter().flatten().flatten();
+            if let Some(e) = saved
+                .map(|e| e.path())
+                .find(|d| d.join("restart.bin").is_file())
+            {
+                break e;
+            }
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "no run wrote a checkpoint"
+            );
+            assert!(start.elapsed() < Duration::from_secs(300), "no checkpoint");
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        child.kill().unwrap();
+        assert_eq!(
+            child.wait().unwrap().signal(),
+            Some(9),
+            "it ended before the kill"
+        );
+        let _ = std::fs::remove_file(&held);
+        std::fs::hard_link(run.join("history.csv"), &held).unwrap();
+        run
+    };
+    let run = kill();
+    let resumed = validate(true).output().unwrap();
+    assert!(resumed.status.success(), "{resumed:?}");
+    let history = std::fs::read(run.join("history.csv")).unwrap();
+    assert!(
+        std::fs::read(&held).unwrap() == history,
+        "the run started again"
+    );
+    let same = whole
+        .join("forrestal")
+        .join("runs")
+        .join(run.file_name().unwrap());
+    assert!(std::fs::read(same.join("history.csv")).unwrap() == history);
+    assert!(!run.join("restart.bin").exists());
+
+    let run = kill();
+    let again = validate(false).output().unwrap();
+    assert!(again.status.success(), "{again:?}");
+    let history = std::fs::read(run.join("history.csv")).unwrap();
+    assert!(std::fs::read(&held).unwrap() != history, "the run went on");
+    for dir in [whole, killed, held.parent().unwrap().to_path_buf()] {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
 /// `penetrate validate --quick --backend BACKEND --only SECTIONS --out OUT` on the shipped data.
 fn quick_only(backend: &str, sections: &str, out: &Path) -> Output {
     let data = data();

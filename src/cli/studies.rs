@@ -153,7 +153,8 @@ pub struct ValidateArgs {
     data: PathBuf,
     /// Take each completed run already in OUT whose resolved scene (its scene.toml),
     /// backend and solver build (this very executable) are the ones asked for, instead of
-    /// running it again: an interrupted validation goes on where it stopped.
+    /// running it again, and continue a run that was under way from its last checkpoint
+    /// (each run writes 20): an interrupted or killed validation goes on where it stopped.
     #[arg(long)]
     resume: bool,
     /// With --resume, also take runs made by this other build (the 16 hex digits that end
@@ -307,6 +308,8 @@ pub fn sweep(args: SweepArgs) -> ExitCode {
         adapter,
         vtk: !no_vtk,
         batch: batch.map_or(1, |n| n as usize),
+        checkpoint: false,
+        restart: false,
     };
     let planned = match studies::sweep::plan_sweep(&case, &vary, &set, backend, &settings, &out) {
         Ok(p) => p,

@@ -234,7 +234,17 @@ pub struct RunSettings {
     pub vtk: bool,
     /// Runs stepped together on one GPU (`--batch N`; 0 or 1: one after another).
     pub batch: usize,
+    /// Write each run's checkpoint [`CHECKPOINTS_PER_RUN`] times over its end time, removed
+    /// once it completes (runs one after another only: a batch's members are not saved).
+    pub checkpoint: bool,
+    /// Go on from a run folder's checkpoint where it holds one of this build and scene, as a
+    /// killed or interrupted run left it (`validate --resume`); otherwise start afresh.
+    pub restart: bool,
 }
+
+/// How many checkpoints a run with [`RunSettings::checkpoint`] writes over its end time: a
+/// killed run loses at most this share of its end time, and writing one costs about a step.
+pub const CHECKPOINTS_PER_RUN: f64 = 20.0;
 
 /// `--backend gpu` needs an adapter: say so before the first run rather than in every row.
 /// Returns the adapter's name as run summaries give it (`None` for the other backends).
@@ -285,18 +295,34 @@ fn run_one(
     settings: &RunSettings,
     share: Option<Arc<GpuShare>>,
 ) -> Result<RunRecord, SweepError> {
-    let opts = RunOptions {
+    let saving = settings.checkpoint && share.is_none();
+    let saved = spec.dir.join(crate::output::RESTART_FILE);
+    let opts = |restart: Option<PathBuf>| RunOptions {
         out: spec.dir.clone(),
         quiet: true,
         vtk: settings.vtk,
         backend: Some(spec.backend),
         adapter: settings.adapter.clone(),
-        checkpoint_every: None,
-        restart: None,
-        share,
+        checkpoint_every: saving.then(|| scene.run.end_time / CHECKPOINTS_PER_RUN),
+        restart,
+        share: share.clone(),
     };
-    let outcome = match solver::run(&scene, &opts) {
-        Ok(o) => Ok(o.summary),
+    let continued = (settings.restart && saved.is_file())
+        .then(|| solver::run(&scene, &opts(Some(saved.clone()))))
+        // Another build's or scene's checkpoint is refused before anything is written.
+        .filter(|r| !matches!(r, Err(RunError::Restart(_))));
+    let result = match continued {
+        Some(r) => r,
+        None => solver::run(&scene, &opts(None)),
+    };
+    let outcome = match result {
+        Ok(o) => {
+            if o.ok && saving {
+                // A completed run is taken whole by a later --resume: its checkpoint is dead.
+                let _ = std::fs::remove_file(&saved);
+            }
+            Ok(o.summary)
+        }
         Err(RunError::Output(e)) => return Err(SweepError::Io(e.to_string())),
         Err(e) => Err(e.to_string()),
     };

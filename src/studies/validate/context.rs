@@ -139,10 +139,14 @@ impl Context<'_> {
             if planned.is_empty() {
                 continue;
             }
+            // Every run saves checkpoints, so that a validation killed in a long run loses
+            // only the last stretch of it: --resume goes on from there.
             let settings = RunSettings {
                 adapter: self.opts.adapter.clone(),
                 vtk,
                 batch,
+                checkpoint: true,
+                restart: self.opts.resume,
             };
             let made_before = self.done.len();
             let estimate = self.estimate;
