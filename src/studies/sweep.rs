@@ -243,7 +243,7 @@ pub struct RunSettings {
 }
 
 /// How many checkpoints a run with [`RunSettings::checkpoint`] writes over its end time: a
-/// killed run loses at most this share of its end time, and writing one costs about a step.
+/// killed run loses at most the steps of one such share of its end time.
 pub const CHECKPOINTS_PER_RUN: f64 = 20.0;
 
 /// `--backend gpu` needs an adapter: say so before the first run rather than in every row.
