@@ -59,7 +59,7 @@ fn quick_validation_writes_every_section() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("Quick run") && report.contains("not validation"));
     assert!(report.contains(
-        "Sections run: taylor, forrestal, crh3-rods, target-size, convergence, \
+        "Sections made by this run: taylor, forrestal, crh3-rods, target-size, convergence, \
          rigid-vs-elastic, deformation, shell, nose-lining, nose-shape, tension"
     ));
     for title in [
@@ -286,9 +286,64 @@ fn only_runs_the_sections_named_and_bad_options_are_refused() {
     let o = penetrate(&[&base[..], &["--data", data, "--only", "taylor"]].concat());
     assert!(o.status.success(), "{}", stderr(&o));
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("Sections run: taylor\n"), "{report}");
-    assert!(report.contains("Sections not run: forrestal, crh3-rods, target-size"));
+    assert!(
+        report.contains("Sections made by this run: taylor\n"),
+        "{report}"
+    );
+    assert!(report.contains("Sections not in the report: forrestal, crh3-rods, target-size"));
     assert!(!out.join("forrestal").exists());
+
+    // Another section made later in the same folder: the report keeps the Taylor part as the
+    // first run wrote it, its checks among the others, and says so.
+    let taylor_part = std::fs::read_to_string(out.join("taylor/part.json")).unwrap();
+    let taylor_block = &report[report.find("\n## Taylor bars").unwrap()..];
+    let o = penetrate(&[&base[..], &["--data", data, "--only", "target-size"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let merged = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        merged.contains("Sections made by this run: target-size\n"),
+        "{merged}"
+    );
+    assert!(
+        merged.contains(
+            "kept from an earlier run in this folder, as it wrote them (each says \
+                         which build made it): taylor\n"
+        ),
+        "{merged}"
+    );
+    assert!(merged.contains("Sections not in the report: forrestal, crh3-rods, convergence"));
+    assert!(
+        merged.contains("| taylor | taylor-4340-208 final length"),
+        "{merged}"
+    );
+    assert!(merged.contains("| target-size | "), "{merged}");
+    // The kept part is the earlier one to the byte, before the part made now.
+    let (taylor_at, size_at) = (merged.find(taylor_block), merged.find("\n## Target size"));
+    assert!(taylor_at.is_some() && taylor_at < size_at, "{merged}");
+    assert!(merged[size_at.unwrap()..].contains("- Made by solver build `penetrate "));
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("[Taylor bars](report.md#taylor-bars)"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("[Target size](report.md#target-size)"),
+        "{summary}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("taylor/part.json")).unwrap(),
+        taylor_part
+    );
+    // A part made with another parameter set is not mixed into the report.
+    let set = ["--set", "contact.friction=0.1"];
+    let o = penetrate(&[&base[..], &["--data", data, "--only", "target-size"], &set].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("Sections not in the report: taylor, forrestal"),
+        "{report}"
+    );
+    assert!(!report.contains("## Taylor bars"), "{report}");
 
     let o = penetrate(&[&base[..], &["--data", data, "--only", "taylor,bogus"]].concat());
     assert_eq!(o.status.code(), Some(2));
@@ -687,6 +742,11 @@ fn resume_takes_matching_completed_runs_only() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(
         report.contains(&format!("`{other}` (taken with --resume-build): 1")),
+        "{report}"
+    );
+    assert!(
+        report.contains("; its 9 runs by `penetrate 0.1.0 ")
+            && report.contains(&format!("` (8), `{other}` (1)\n")),
         "{report}"
     );
     let fifth = penetrate(&[&base[..], &["--resume", "--resume-build", "0123"]].concat());

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::output::plot::Chart;
+use crate::output::summary::build_id;
 use crate::scene::{self, Backend, Scene};
 use crate::studies::sweep::{self, RunRecord, RunSettings, RunSpec};
 
@@ -25,6 +26,8 @@ pub(super) struct Context<'a> {
     pub(super) done: Vec<RunRecord>,
     pub(super) failed: Vec<String>,
     pub(super) reused: usize,
+    /// The solver build of every run each section used, made here or taken (`--resume`).
+    pub(super) builds: Vec<(Section, String)>,
     /// Runs taken from an earlier process's output (`--resume`).
     pub(super) resumed: usize,
     /// With a GPU backend: the adapter's name as run summaries give it; `--resume` takes only
@@ -187,7 +190,12 @@ impl Context<'_> {
         for (k, first) in twins {
             records[k] = records[first].clone();
         }
-        Ok(records.into_iter().flatten().collect())
+        let records: Vec<RunRecord> = records.into_iter().flatten().collect();
+        self.builds.extend(records.iter().map(|r| {
+            let build = r.summary().map_or(build_id(), |s| s.solver_build.as_str());
+            (section, build.to_string())
+        }));
+        Ok(records)
     }
 
     /// With `--resume`, an earlier process's completed run of `p` (said in the progress).

@@ -221,7 +221,6 @@ pub(super) fn convergence(ctx: &mut Context) -> Result<SectionOut, ValidateError
         }
         let worst = pairs.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
         checks.push(Check {
-            section,
             what: format!(
                 "{v} m/s: GPU against CPU depth at {} resolution(s)",
                 pairs.len()
@@ -305,7 +304,6 @@ fn refinement_checks(levels: &[Level]) -> Vec<Check> {
         };
         let change = l.depth().zip(f.depth()).map(|(c, f)| f / c - 1.0);
         checks.push(Check {
-            section: Section::Convergence,
             what: format!(
                 "{} m/s on {}: depth at ×{fine} against ×{coarse} (twice the resolution)",
                 l.velocity,
@@ -431,7 +429,6 @@ fn roundoff(
         };
         let d = gpu / cpu - 1.0;
         checks.push(Check {
-            section,
             what: format!(
                 "{v} m/s: GPU against CPU mean depth of the round-off ensemble at ×{factor}"
             ),

@@ -6,7 +6,6 @@ use crate::output::summary::Summary;
 use crate::studies::sweep::RunRecord;
 
 use super::report::Check;
-use super::Section;
 
 /// The energy account's error at the end of a run, at most.
 const ENERGY_TOLERANCE: f64 = 0.01;
@@ -27,7 +26,7 @@ pub(super) fn targets() -> String {
 
 /// The two checks over `records` (`runs` names them in the report): not evaluated unless
 /// every run completed, and the checkerboard's not where a run's build did not record it.
-pub(super) fn checks(section: Section, runs: &str, records: &[&RunRecord]) -> Vec<Check> {
+pub(super) fn checks(runs: &str, records: &[&RunRecord]) -> Vec<Check> {
     let done: Vec<(&str, &Summary)> = records
         .iter()
         .filter_map(|r| r.completed().map(|s| (r.label.as_str(), s)))
@@ -40,7 +39,6 @@ pub(super) fn checks(section: Section, runs: &str, records: &[&RunRecord]) -> Ve
             .and_then(|all| all.into_iter().max_by(|a, b| a.1.total_cmp(&b.1)))
     };
     let check = |what: &str, tolerance: f64, worst: Option<(&str, f64)>, missing: &str| Check {
-        section,
         what: format!("{what}, {runs}"),
         target: format!("below {:.0} %", 100.0 * tolerance),
         result: if all_ran {

@@ -1,7 +1,8 @@
 //! `penetrate validate`: the shipped validation cases and the paper's studies, run in process
 //! through [`super::sweep`], written up in `DIR/report.md` with PNG plots
 //! ([`crate::output::plot`]) and each section's raw data as CSV, and summed up in
-//! `DIR/summary.md`, one table of the checks.
+//! `DIR/summary.md`, one table of the checks. Each section's part is also kept in its folder
+//! ([`report::Part`]), so that sections made a few at a time into one folder end as one report.
 //!
 //! Sections ([`Section`]): Taylor bars at three element sizes; the Forrestal et al. (1994) shots
 //! and the CRH 3 rods against the measurements and Forrestal's equation, with the accuracy rule
@@ -42,7 +43,7 @@ use crate::scene::Backend;
 use crate::studies::sweep::{self, SweepError, Vary};
 
 use context::Context;
-use report::{render, render_summary};
+use report::{render, render_summary, Part};
 
 /// A part of the report, runnable alone with `--only`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -448,6 +449,7 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
         done: Vec::new(),
         failed: Vec::new(),
         reused: 0,
+        builds: Vec::new(),
         resumed: 0,
         gpu_adapter,
         estimate,
@@ -483,14 +485,27 @@ pub fn run(opts: &Options, progress: &mut dyn FnMut(&str)) -> Result<Outcome, Va
             Section::NoseShape => nose_shape::run(&mut ctx)?,
             Section::Tension => tension::run(&mut ctx)?,
         };
-        parts.push((s, out));
+        let part = Part::new(&ctx, s, &out);
+        part.write(&ctx.dir(s)).map_err(ValidateError::Io)?;
+        parts.push((s, part));
     }
+    // The sections not made now that an earlier run left in this folder with the same
+    // settings: a validation made a few sections at a time keeps one whole report.
+    let made_with = report::MadeWith::of(opts);
+    let mut kept = Vec::new();
+    for s in Section::ALL.into_iter().filter(|s| !chosen.contains(s)) {
+        if let Some(part) = Part::kept(&ctx.dir(s), s, &made_with) {
+            kept.push(s);
+            parts.push((s, part));
+        }
+    }
+    parts.sort_by_key(|(s, _)| Section::ALL.iter().position(|t| t == s));
     let wall_s = started.elapsed().as_secs_f64();
     let report = opts.out.join("report.md");
-    std::fs::write(&report, render(&ctx, &chosen, &parts, wall_s))
+    std::fs::write(&report, render(&ctx, &chosen, &kept, &parts, wall_s))
         .map_err(|e| ValidateError::Io(format!("{}: {e}", report.display())))?;
     let summary = opts.out.join("summary.md");
-    std::fs::write(&summary, render_summary(&ctx, &parts))
+    std::fs::write(&summary, render_summary(&ctx, &kept, &parts))
         .map_err(|e| ValidateError::Io(format!("{}: {e}", summary.display())))?;
     Ok(Outcome {
         report,

@@ -116,7 +116,6 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             }
             let inside = ratio.zip(band).map(|(r, (lo, hi))| (lo..=hi).contains(&r));
             checks.push(Check {
-                section,
                 what: format!("CRH {} / CRH {} depth at {v} m/s", n.crh, blunt.crh),
                 target: format!(
                     "inside the equation's band widened by {:.0} %: {}",

@@ -200,7 +200,6 @@ pub(super) fn all_shots_check(errors: &[ShotError]) -> Check {
     let law: Vec<f64> = errors.iter().filter_map(|e| e.law).collect();
     let all_ran = simulated.len() == errors.len();
     Check {
-        section: Section::Crh3Rods,
         what: format!("every penetration shot ({}), all sets", errors.len()),
         target: format!(
             "each within {:.0} %, mean absolute error ≤ {:.0} %",
@@ -341,7 +340,6 @@ fn depth_section(
     let law_errors: Vec<f64> = errors.iter().filter_map(|e| e.law).collect();
     let all_ran = complete.len() == errors.len();
     let check = Check {
-        section,
         what: format!("depth of each of the {} shots", errors.len()),
         target: format!(
             "every shot within {:.0} % of measured",
@@ -491,7 +489,7 @@ fn depth_section(
     md += &resistance;
     let runs: Vec<&RunRecord> = records.iter().collect();
     let checks = std::iter::once(check)
-        .chain(end_state::checks(section, "every shot", &runs))
+        .chain(end_state::checks("every shot", &runs))
         .collect();
     Ok((
         SectionOut {
@@ -773,7 +771,6 @@ pub(super) fn target_size(ctx: &mut Context) -> Result<SectionOut, ValidateError
         &rows,
     )?;
     let check = Check {
-        section,
         what: format!(
             "{} m/s shot, target radius and thickness ×{TARGET_GROWTH}",
             c.shot.velocity

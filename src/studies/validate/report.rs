@@ -1,6 +1,10 @@
 //! The report: `report.md` put together from the sections' parts, and the Markdown helpers the
 //! sections share.
 
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
 use crate::output::summary::build_id;
 use crate::scene::Backend;
 
@@ -9,7 +13,6 @@ use super::Section;
 
 /// A pass/fail line of the report's summary.
 pub(super) struct Check {
-    pub(super) section: Section,
     pub(super) what: String,
     pub(super) target: String,
     pub(super) result: String,
@@ -23,10 +26,109 @@ pub(super) struct SectionOut {
     pub(super) checks: Vec<Check>,
 }
 
+/// A check as the report keeps it, without its section.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct CheckRow {
+    what: String,
+    target: String,
+    result: String,
+    pass: Option<bool>,
+}
+
+/// What a section's part was made with. A part is kept in a later run's report only when that
+/// run asks for the same, so that one report never mixes quick and full numbers, data folders,
+/// parameter sets or backends.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub(super) struct MadeWith {
+    quick: bool,
+    set: Vec<String>,
+    data: String,
+    backends: Vec<String>,
+}
+
+impl MadeWith {
+    pub(super) fn of(opts: &super::Options) -> MadeWith {
+        MadeWith {
+            quick: opts.quick,
+            set: opts.set.clone(),
+            data: opts.data.display().to_string(),
+            backends: opts.backends.iter().map(|b| b.name().to_string()).collect(),
+        }
+    }
+}
+
+/// A section's part of the report as written, also kept in the section's folder
+/// ([`PART_FILE`]) so that a later `--only` run of other sections keeps it in the report.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct Part {
+    /// The section's name (`--only`).
+    section: String,
+    made_with: MadeWith,
+    checks: Vec<CheckRow>,
+    /// Its Markdown, from its heading on.
+    block: String,
+}
+
+/// A part's file in its section's folder.
+pub(super) const PART_FILE: &str = "part.json";
+
+impl Part {
+    /// The part `out` of section `s`, made by this run.
+    pub(super) fn new(ctx: &Context, s: Section, out: &SectionOut) -> Part {
+        let mut block = format!("## {}\n\n", s.title());
+        block += &format!("- Command: `{}`\n", command(ctx, s));
+        block += &format!("- Data source: {}\n", s.source());
+        block += &format!(
+            "- Verdict: {}\n",
+            verdict_of(out.checks.iter().map(|c| c.pass))
+        );
+        block += &made_by_line(ctx, s);
+        block += "\n";
+        block += &out.markdown;
+        Part {
+            section: s.name().to_string(),
+            made_with: MadeWith::of(ctx.opts),
+            checks: out
+                .checks
+                .iter()
+                .map(|c| CheckRow {
+                    what: c.what.clone(),
+                    target: c.target.clone(),
+                    result: c.result.clone(),
+                    pass: c.pass,
+                })
+                .collect(),
+            block,
+        }
+    }
+
+    /// The part an earlier run left in `dir` (a section's folder), if it was made with
+    /// `made_with`; `None` where there is none or it cannot be read.
+    pub(super) fn kept(dir: &Path, s: Section, made_with: &MadeWith) -> Option<Part> {
+        let text = std::fs::read_to_string(dir.join(PART_FILE)).ok()?;
+        let part: Part = serde_json::from_str(&text).ok()?;
+        (part.section == s.name() && part.made_with == *made_with).then_some(part)
+    }
+
+    pub(super) fn write(&self, dir: &Path) -> Result<(), String> {
+        let path = dir.join(PART_FILE);
+        let json = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
+        std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    fn verdict(&self) -> String {
+        verdict_of(self.checks.iter().map(|c| c.pass))
+    }
+}
+
+/// `report.md`: how this run was made, the checks of every part, and the parts, in the order
+/// of [`Section::ALL`]. `parts` holds the sections this run made and those `kept` from earlier
+/// runs in the folder.
 pub(super) fn render(
     ctx: &Context,
-    chosen: &[Section],
-    parts: &[(Section, SectionOut)],
+    made: &[Section],
+    kept: &[Section],
+    parts: &[(Section, Part)],
     wall_s: f64,
 ) -> String {
     let opts = ctx.opts;
@@ -45,9 +147,9 @@ pub(super) fn render(
             n.join(", ")
         }
     };
-    let skipped: Vec<Section> = Section::ALL
+    let missing: Vec<Section> = Section::ALL
         .into_iter()
-        .filter(|s| !chosen.contains(s))
+        .filter(|s| !made.contains(s) && !kept.contains(s))
         .collect();
     let backends: Vec<String> = opts
         .backends
@@ -62,8 +164,15 @@ pub(super) fn render(
             format!("{}{adapter}", b.name())
         })
         .collect();
-    md += &format!("- Sections run: {}\n", names(chosen));
-    md += &format!("- Sections not run: {}\n", names(&skipped));
+    md += &format!("- Sections made by this run: {}\n", names(made));
+    if !kept.is_empty() {
+        md += &format!(
+            "- Sections kept from an earlier run in this folder, as it wrote them (each says \
+             which build made it): {}\n",
+            names(kept)
+        );
+    }
+    md += &format!("- Sections not in the report: {}\n", names(&missing));
     md += &format!(
         "- Backends: {} (the error-against-run-time section runs on each, the others on the first)\n",
         backends.join(", ")
@@ -71,15 +180,15 @@ pub(super) fn render(
     md += &format!("- Data: `{}`\n", opts.data.display());
     md += &set_line(opts);
     md += &format!(
-        "- Runs: {} ({} of them resumed from earlier output in this folder; {} more asked again \
-         and reused), {} did not complete\n",
+        "- Runs of this run: {} ({} of them resumed from earlier output in this folder; {} more \
+         asked again and reused), {} did not complete\n",
         ctx.done.len(),
         ctx.resumed,
         ctx.reused,
         ctx.failed.len()
     );
     md += &builds_line(ctx);
-    md += &format!("- Wall time: {wall_s:.0} s\n\n");
+    md += &format!("- Wall time of this run: {wall_s:.0} s\n\n");
     if !ctx.failed.is_empty() {
         md += "Runs that did not complete:\n\n";
         for f in &ctx.failed {
@@ -90,10 +199,10 @@ pub(super) fn render(
     md += "## Checks\n\n";
     let rows: Vec<Vec<String>> = parts
         .iter()
-        .flat_map(|(_, p)| &p.checks)
-        .map(|c| {
+        .flat_map(|(s, p)| p.checks.iter().map(move |c| (s, c)))
+        .map(|(s, c)| {
             vec![
-                c.section.name().to_string(),
+                s.name().to_string(),
                 c.what.clone(),
                 c.target.clone(),
                 c.result.clone(),
@@ -110,27 +219,32 @@ pub(super) fn render(
     } else {
         md += &table(&["section", "check", "target", "result", "verdict"], &rows);
     }
-    for (s, p) in parts {
-        md += &format!("\n## {}\n\n", s.title());
-        md += &format!("- Command: `{}`\n", command(ctx, *s));
-        md += &format!("- Data source: {}\n", s.source());
-        md += &format!("- Verdict: {}\n\n", verdict(&p.checks));
-        md += &p.markdown;
+    for (_, p) in parts {
+        md += "\n";
+        md += &p.block;
     }
     md
 }
 
 /// The one-page summary beside the report: how it was made, and its checks with their
 /// verdicts, each section linked to its part of `report.md`.
-pub(super) fn render_summary(ctx: &Context, parts: &[(Section, SectionOut)]) -> String {
+pub(super) fn render_summary(ctx: &Context, kept: &[Section], parts: &[(Section, Part)]) -> String {
     let mut md = String::from("# Validation summary\n\n");
     if ctx.opts.quick {
         md += "> **Quick run** (`--quick`): these numbers test the tooling; **they are not \
                validation**.\n\n";
     }
     md += "Every check of `penetrate validate`, as its last run wrote them; the setup, data, \
-           results and plots of each section are in [report.md](report.md).\n\n";
+           results and plots of each section, and the solver build that made it, are in \
+           [report.md](report.md).\n\n";
     md += &builds_line(ctx);
+    if !kept.is_empty() {
+        let n: Vec<&str> = kept.iter().map(|s| s.name()).collect();
+        md += &format!(
+            "- Sections kept from an earlier run in this folder: {}\n",
+            n.join(", ")
+        );
+    }
     md += &set_line(ctx.opts);
     md += "\n";
     let rows: Vec<Vec<String>> = parts
@@ -152,7 +266,7 @@ pub(super) fn render_summary(ctx: &Context, parts: &[(Section, SectionOut)]) -> 
                     .map(|c| format!("{}: {}", c.what, c.result))
                     .collect::<Vec<_>>()
                     .join("; "),
-                verdict(&p.checks),
+                p.verdict(),
             ]
         })
         .collect();
@@ -160,7 +274,6 @@ pub(super) fn render_summary(ctx: &Context, parts: &[(Section, SectionOut)]) -> 
     md
 }
 
-/// The command that makes a section's part again.
 /// The `--set` values, where any were given: the parameter set is not the shipped one.
 fn set_line(opts: &super::Options) -> String {
     if opts.set.is_empty() {
@@ -174,6 +287,7 @@ fn set_line(opts: &super::Options) -> String {
     )
 }
 
+/// The command that makes a section's part again.
 fn command(ctx: &Context, s: Section) -> String {
     let o = ctx.opts;
     let backends: Vec<&str> = o.backends.iter().map(|b| b.name()).collect();
@@ -187,22 +301,41 @@ fn command(ctx: &Context, s: Section) -> String {
     )
 }
 
-/// A section's verdict from its checks: pass when every check passed.
-fn verdict(checks: &[Check]) -> String {
-    if checks.is_empty() {
+/// A section's verdict from its checks' outcomes: pass when every check passed.
+fn verdict_of(checks: impl Iterator<Item = Option<bool>> + Clone) -> String {
+    let total = checks.clone().count();
+    if total == 0 {
         return "no accuracy target (a study: read its figures)".into();
     }
-    let passed = checks.iter().filter(|c| c.pass == Some(true)).count();
-    let failed = checks.iter().filter(|c| c.pass == Some(false)).count();
-    match (failed, passed == checks.len()) {
-        (0, true) => format!("pass ({passed} of {} checks)", checks.len()),
+    let passed = checks.clone().filter(|&c| c == Some(true)).count();
+    let failed = checks.filter(|&c| c == Some(false)).count();
+    match (failed, passed == total) {
+        (0, true) => format!("pass ({passed} of {total} checks)"),
         (0, false) => format!(
-            "n/a: {} of {} checks not evaluated (a run did not complete)",
-            checks.len() - passed,
-            checks.len()
+            "n/a: {} of {total} checks not evaluated (a run did not complete)",
+            total - passed,
         ),
-        _ => format!("**fail** ({failed} of {} checks)", checks.len()),
+        _ => format!("**fail** ({failed} of {total} checks)"),
     }
+}
+
+/// A part's line naming the build that wrote it and those of its runs (which `--resume` may
+/// have taken from other builds).
+fn made_by_line(ctx: &Context, s: Section) -> String {
+    let mut counts: Vec<(&str, usize)> = Vec::new();
+    for (_, b) in ctx.builds.iter().filter(|(t, _)| *t == s) {
+        match counts.iter_mut().find(|(c, _)| c == b) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((b, 1)),
+        }
+    }
+    let runs: usize = counts.iter().map(|(_, n)| n).sum();
+    let mut line = format!("- Made by solver build `{}`", build_id());
+    if runs > 0 {
+        let each: Vec<String> = counts.iter().map(|(b, n)| format!("`{b}` ({n})")).collect();
+        line += &format!("; its {runs} runs by {}", each.join(", "));
+    }
+    line + "\n"
 }
 
 /// The report's line naming the solver build of every run it used, this executable's first.

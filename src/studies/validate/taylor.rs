@@ -173,7 +173,6 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             for (what, simulated, measured, tolerance) in measures {
                 let error = simulated.map(|x| x / measured - 1.0);
                 checks.push(Check {
-                    section,
                     what: format!("{name} {what}, {:.3} mm elements", h * 1e3),
                     target: format!(
                         "within {:.0} % of {:.2} mm",
@@ -288,7 +287,6 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
     md += &diameter_plot;
     let runs: Vec<&RunRecord> = checked_runs.iter().collect();
     checks.extend(end_state::checks(
-        section,
         "the checked bars at the shipped mesh and finer",
         &runs,
     ));

@@ -177,7 +177,6 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
 
     let checks = vec![
         Check {
-            section,
             what: format!(
                 "crack band's work per crack area, opening at {RATE}/s, bands {}–{} mm",
                 1e3 * bands[0],
@@ -192,7 +191,6 @@ pub(super) fn run(ctx: &mut Context) -> Result<SectionOut, ValidateError> {
             pass: opening_error.map(|e| e <= FRACTURE_TOLERANCE),
         },
         Check {
-            section,
             what: format!(
                 "{} m/s into the {} mm free-backed slab, crack band",
                 scene.projectile.velocity,
