@@ -116,6 +116,11 @@ impl Part {
         std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))
     }
 
+    /// The title its heading gives it.
+    fn title(&self) -> Option<&str> {
+        self.block.lines().next()?.strip_prefix("## ")
+    }
+
     fn verdict(&self) -> String {
         verdict_of(self.checks.iter().map(|c| c.pass))
     }
@@ -250,16 +255,11 @@ pub(super) fn render_summary(ctx: &Context, kept: &[Section], parts: &[(Section,
     let rows: Vec<Vec<String>> = parts
         .iter()
         .map(|(s, p)| {
-            // The heading's anchor as Markdown renderers make it (GitHub's rule).
-            let anchor: String = s
-                .title()
-                .to_lowercase()
-                .chars()
-                .filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-')
-                .map(|c| if c == ' ' { '-' } else { c })
-                .collect();
+            // The part's own heading: a kept part keeps the title it was written with.
+            let title = p.title().unwrap_or(s.title());
+            let anchor = anchor(title);
             vec![
-                format!("[{}](report.md#{anchor})", s.title()),
+                format!("[{title}](report.md#{anchor})"),
                 s.source().to_string(),
                 p.checks
                     .iter()
@@ -272,6 +272,16 @@ pub(super) fn render_summary(ctx: &Context, kept: &[Section], parts: &[(Section,
         .collect();
     md += &table(&["section", "data", "result", "verdict"], &rows);
     md
+}
+
+/// A heading's anchor as Markdown renderers make it (GitHub's rule).
+fn anchor(heading: &str) -> String {
+    heading
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-')
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
 }
 
 /// The `--set` values, where any were given: the parameter set is not the shipped one.
@@ -384,4 +394,33 @@ pub(super) fn pct(x: f64) -> String {
 /// `f(x)`, or a dash where there is no value.
 pub(super) fn or_dash<T>(x: Option<T>, f: impl FnOnce(T) -> String) -> String {
     x.map_or_else(|| "–".into(), f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The summary links a part by the heading it was written with, which a kept part may
+    /// have from before its section's title changed.
+    #[test]
+    fn a_part_is_linked_by_its_own_heading() {
+        let part = Part {
+            section: "nose-lining".into(),
+            made_with: MadeWith {
+                quick: false,
+                set: vec![],
+                data: "data".into(),
+                backends: vec!["cpu".into()],
+            },
+            checks: vec![],
+            block: "## Concrete lining the nose: CRH 2 against CRH 6\n\n- Command: …\n".into(),
+        };
+        let title = part.title().unwrap();
+        assert_eq!(title, "Concrete lining the nose: CRH 2 against CRH 6");
+        assert_eq!(
+            anchor(title),
+            "concrete-lining-the-nose-crh-2-against-crh-6"
+        );
+        assert_eq!(anchor("Taylor bars"), "taylor-bars");
+    }
 }
