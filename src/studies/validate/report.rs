@@ -70,7 +70,7 @@ pub(super) struct Part {
 }
 
 /// A part's file in its section's folder.
-pub(super) const PART_FILE: &str = "part.json";
+const PART_FILE: &str = "part.json";
 
 impl Part {
     /// The part `out` of section `s`, made by this run.
