@@ -1,18 +1,20 @@
 #!/usr/bin/env python3
-"""How local the particles' neighbours are in memory: what reordering them by cell would buy.
+"""How local the particles' neighbours are in memory: what the order the particles are stored in
+buys a GPU warp.
 
 A gather loads each neighbour's data through the neighbour list, so a warp of 32 consecutive
-particles touches as many 128-byte lines of a field as its neighbours' indices span. This reads
-the particle positions of `penetrate run` target frames (binary VTU, points (r, 0, z)), finds
-every pair within the support 2h, and gives, per frame, the 128-byte lines (32 f32) a warp
-touches loading one field of all its neighbours: in the order the particles are stored; if
-they were sorted by cell of side h (rows of z, then r, then index), as a list build could sort
-them; and if only the data the gathers read of a neighbour were kept in that order, the
-particles (and so the warps) staying as stored. Needs numpy.
+particles touches as many 128-byte lines as its neighbours' indices span. This reads the
+particle positions of `penetrate run` target frames (binary VTU, points (r, 0, z)), finds every
+pair within the support 2h, and gives, per frame, the lines a warp touches loading a 4-byte
+field (32 to a line) and a 16-byte packed record (8 to a line) of all its neighbours: with the
+particles as stored; kept from the first frame in the lattice's row-by-row order, or in its
+Z-order (what `mesh::target::lattice` lays); and sorted by cell of side h at that frame (rows
+of z, then r, then index), as a list build could sort them. Needs numpy.
 
-    python3 scripts/neighbour_locality.py H FRAME.vtu...
+    python3 scripts/neighbour_locality.py H FIRST_FRAME.vtu [LATER_FRAME.vtu...]
 
-H is the smoothing length in m (the Forrestal scenes: 1.5 x 4 mm = 0.006).
+H is the smoothing length in m (the Forrestal scenes: 1.5 x 4 mm = 0.006); the first frame
+must be a run's first (the lattice as laid).
 """
 import re
 import sys
@@ -55,31 +57,57 @@ def pairs(p, support):
     return np.concatenate(out_i), np.concatenate(out_j)
 
 
-def lines_per_warp(i, j, place, nbr_place=None):
-    """Distinct (warp, line) pairs over warps: `place[x]` is where particle x is stored, and
-    `nbr_place[x]` where its data are read as a neighbour (`place` if None)."""
-    nbr_place = place if nbr_place is None else nbr_place
+def lines_per_warp(i, j, place, per_line):
+    """Distinct (warp, line) pairs over warps, `per_line` neighbour records to a 128-byte line:
+    `place[x]` is where particle x is stored (and so its warp and where it is read)."""
     warp = place[i] // WARP
-    line = nbr_place[j] // LINE
-    return len(np.unique(warp * (len(place) // LINE + 1) + line)) / len(np.unique(warp))
+    line = place[j] // per_line
+    return len(np.unique(warp * (len(place) // per_line + 1) + line)) / len(np.unique(warp))
+
+
+def z_order(col, row):
+    """Key of lattice site (col, row) on the Z-order curve, as `mesh::target::lattice` sorts."""
+    key = np.zeros(len(col), dtype=np.int64)
+    for b in range(24):
+        key |= ((col >> b) & 1) << (2 * b) | ((row >> b) & 1) << (2 * b + 1)
+    return key
+
+
+def places(order):
+    place = np.empty(len(order), dtype=np.int64)
+    place[order] = np.arange(len(order))
+    return place
 
 
 def main():
     h = float(sys.argv[1])
+    first = None
     for frame in sys.argv[2:]:
         p = positions(frame)
-        i, j = pairs(p, 2 * h)
         n = len(p)
-        index = np.arange(n)
+        if first is None:
+            # The orders a run keeps, laid from its first frame's lattice (first column at Δ/2).
+            first = p
+            spacing = 2 * p[:, 0].min()
+            col = np.rint(p[:, 0] / spacing - 0.5).astype(np.int64)
+            row = np.rint(-p[:, 1] / spacing - 0.5).astype(np.int64)
+            kept = {
+                "as stored": np.arange(n),
+                "row by row": places(np.lexsort((col, row))),
+                "Z-order": places(np.argsort(z_order(col, row), kind="stable")),
+            }
+        i, j = pairs(p, 2 * h)
         cell = np.floor(p / h).astype(np.int64)
-        order = np.lexsort((index, cell[:, 0], cell[:, 1]))
-        sorted_place = np.empty(n, dtype=np.int64)
-        sorted_place[order] = index
+        orders = dict(kept)
+        orders["sorted by cell now"] = places(np.lexsort((np.arange(n), cell[:, 0], cell[:, 1])))
+        figures = ", ".join(
+            f"{name} {lines_per_warp(i, j, place, LINE):.1f} / "
+            f"{lines_per_warp(i, j, place, LINE // 4):.1f}"
+            for name, place in orders.items()
+        )
         print(
-            f"{frame}: {n} particles, {len(i) / n:.1f} neighbours each; lines a warp touches "
-            f"per field: {lines_per_warp(i, j, index):.1f} as stored, "
-            f"{lines_per_warp(i, j, sorted_place):.1f} sorted by cell, "
-            f"{lines_per_warp(i, j, index, sorted_place):.1f} with only the neighbour data sorted"
+            f"{frame}: {n} particles, {len(i) / n:.1f} neighbours each; 128-byte lines a warp "
+            f"touches loading a 4-byte / 16-byte record of every neighbour: {figures}"
         )
 
 

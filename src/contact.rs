@@ -1,5 +1,6 @@
 //! Sliding-surface correction with artificial momentum transport (physics.md §4, paper §3),
-//! applied on the CPU for every hit of the step, one after another in slave order.
+//! applied on the CPU for every hit of the step, one after another in the slaves' lattice order
+//! (`Model::hit_order`).
 //!
 //! For a slave S inside the master triangle of segment AB (outward normal n), S moves to its
 //! foot S'' on AB, weights w_A = |BS''|/|AB|, w_B = |AS''|/|AB|, and with normal velocities
@@ -87,7 +88,7 @@ pub struct CorrectionStats {
     pub nose_impulse_z: f64,
 }
 
-/// Apply every hit in order (the caller passes them sorted by slave index). `on_nose[k]` says
+/// Apply every hit in order (the caller passes them in `Model::hit_order`). `on_nose[k]` says
 /// whether master `k` is on the nose: its hits' impulse is booked in `nose_impulse_z` too.
 /// `normal_impulse[k]` gains the normal impulse m_S δ of master `k`'s closing hits (N s; the
 /// load on its ring: the pressure on the nose, physics.md §4). `friction` is the Coulomb

@@ -183,6 +183,7 @@ pub fn pull_apart(params: &SphParams, rates: [f32; 3]) -> Option<PullApart> {
         mass: vec![1.0],
         rear: vec![false],
         lateral: vec![false],
+        site: vec![0],
     };
     let mut ps = Particles::at_rest(&lattice, c, vec![0]);
     let [rr, zz, tt] = rates;

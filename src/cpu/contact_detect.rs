@@ -4,7 +4,7 @@
 //! takes the triangle ABC itself; the strips also cover the wedge at each surface node between
 //! two master triangles, where a slave inside the projectile was in no master (measured: slaves
 //! left 0.3–1.4 µm inside). Where a slave lies in several strips, the one whose segment AB is
-//! nearest wins. Hits come out in slave order.
+//! nearest wins. Hits come out in the order of the slave list.
 
 use rayon::prelude::*;
 

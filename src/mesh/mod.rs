@@ -49,6 +49,9 @@ pub struct TargetLattice {
     pub rear: Vec<bool>,
     /// Particle in the last column at the lateral surface.
     pub lateral: Vec<bool>,
+    /// The row-by-row index of the particle's lattice site (row k, column i: k · columns + i):
+    /// the order the contact applies its hits in, whatever order the particles are stored in.
+    pub site: Vec<u32>,
 }
 
 /// A mesher refused its input (the scene validator should have caught it first).

@@ -16,8 +16,11 @@ pub fn lattice_count(radius: f64, thickness: f64, spacing: f64) -> (usize, usize
     )
 }
 
-/// Target particles at r = (i + ½)Δ, z = −(k + ½)Δ, ordered row by row (k outer, i inner), with
-/// ring mass ρ₀ · 2π r Δ² (physics.md §3). `rear` marks the last row, `lateral` the last column.
+/// Target particles at r = (i + ½)Δ, z = −(k + ½)Δ, with ring mass ρ₀ · 2π r Δ² (physics.md §3).
+/// `rear` marks the last row, `lateral` the last column. They are stored along the Z-order curve
+/// of (i, k) ([`z_order`]), and keep that order through a run: particles near in index are near
+/// in space, so a GPU warp's neighbours lie in about half the cache lines they span when stored
+/// row by row (docs/performance.md, "The neighbour lists: skin and particle order").
 pub fn lattice(
     radius: f64,
     thickness: f64,
@@ -50,20 +53,39 @@ pub fn lattice(
         mass: Vec::with_capacity(n),
         rear: Vec::with_capacity(n),
         lateral: Vec::with_capacity(n),
+        site: Vec::with_capacity(n),
     };
-    for k in 0..rows {
-        let z = -(k as f64 + 0.5) * spacing;
-        for i in 0..cols {
-            let r = (i as f64 + 0.5) * spacing;
-            t.r.push(r as f32);
-            t.z.push(z as f32);
-            t.mass
-                .push((density * 2.0 * PI * r * spacing * spacing) as f32);
-            t.rear.push(k + 1 == rows);
-            t.lateral.push(i + 1 == cols);
-        }
+    let mut sites: Vec<(usize, usize)> = (0..rows)
+        .flat_map(|k| (0..cols).map(move |i| (i, k)))
+        .collect();
+    sites.sort_unstable_by_key(|&(i, k)| z_order(i, k));
+    for (i, k) in sites {
+        let r = (i as f64 + 0.5) * spacing;
+        t.r.push(r as f32);
+        t.z.push((-(k as f64 + 0.5) * spacing) as f32);
+        t.mass
+            .push((density * 2.0 * PI * r * spacing * spacing) as f32);
+        t.rear.push(k + 1 == rows);
+        t.lateral.push(i + 1 == cols);
+        t.site.push((k * cols + i) as u32);
     }
     Ok(t)
+}
+
+/// The position of lattice site (column i, row k) along the Z-order (Morton) curve: the bits of
+/// i and k interleaved, i's in the even places. Every aligned block of 2ᵐ × 2ᵐ sites is a run of
+/// consecutive keys.
+fn z_order(i: usize, k: usize) -> u64 {
+    /// Spreads the low 32 bits of x into the even bit places.
+    fn spread(x: usize) -> u64 {
+        let mut x = x as u64 & 0xffff_ffff;
+        x = (x | (x << 16)) & 0x0000_ffff_0000_ffff;
+        x = (x | (x << 8)) & 0x00ff_00ff_00ff_00ff;
+        x = (x | (x << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
+        x = (x | (x << 2)) & 0x3333_3333_3333_3333;
+        (x | (x << 1)) & 0x5555_5555_5555_5555
+    }
+    spread(i) | (spread(k) << 1)
 }
 
 /// The lattice column (r = (i + ½)Δ) nearest to radius `r`, and how far outside `r` it lies
@@ -132,6 +154,7 @@ pub fn drill(t: &mut TargetLattice, depth: f64, diameter: f64) -> usize {
     retain(&mut t.mass, &keep);
     retain(&mut t.rear, &keep);
     retain(&mut t.lateral, &keep);
+    retain(&mut t.site, &keep);
     keep.iter().filter(|&&k| !k).count()
 }
 
@@ -148,22 +171,61 @@ mod tests {
         let t = lattice(0.1, 0.05, d, 2370.0).unwrap();
         assert_eq!(t.r.len(), 50);
         assert_eq!(t.mass.len(), 50);
-        assert_eq!((t.r[0], t.z[0]), ((0.5 * d) as f32, (-0.5 * d) as f32));
-        // Row by row: particle 1 is the next column of the first row.
-        assert_eq!((t.r[1], t.z[1]), ((1.5 * d) as f32, (-0.5 * d) as f32));
-        assert_eq!((t.r[10], t.z[10]), ((0.5 * d) as f32, (-1.5 * d) as f32));
-        assert!(t.r.iter().all(|&r| r > 0.0));
+        // Every site once, with its flags and mass.
+        let mut seen = [false; 50];
         for p in 0..50 {
-            assert_eq!(t.rear[p], p >= 40, "rear flag of {p}");
-            assert_eq!(t.lateral[p], p % 10 == 9, "lateral flag of {p}");
+            let i = (t.r[p] as f64 / d - 0.5).round() as usize;
+            let k = (-t.z[p] as f64 / d - 0.5).round() as usize;
+            assert_eq!(
+                (t.r[p], t.z[p]),
+                (
+                    ((i as f64 + 0.5) * d) as f32,
+                    (-(k as f64 + 0.5) * d) as f32
+                )
+            );
+            assert!(
+                !std::mem::replace(&mut seen[k * 10 + i], true),
+                "site {i}, {k} twice"
+            );
+            assert_eq!(t.rear[p], k == 4, "rear flag of {p}");
+            assert_eq!(t.lateral[p], i == 9, "lateral flag of {p}");
+            assert_eq!(t.site[p] as usize, k * 10 + i, "site of {p}");
+            let m = 2370.0 * 2.0 * PI * (i as f64 + 0.5) * d * d * d;
+            assert!(((t.mass[p] as f64 - m) / m).abs() < 1e-6);
         }
-        let last = 49;
-        assert_eq!(
-            (t.r[last], t.z[last]),
-            ((9.5 * d) as f32, (-4.5 * d) as f32)
-        );
-        let m0 = 2370.0 * 2.0 * PI * 0.5 * d * d * d;
-        assert!(((t.mass[0] as f64 - m0) / m0).abs() < 1e-6);
+        assert!(t.r.iter().all(|&r| r > 0.0));
+    }
+
+    /// Stored along the Z-order curve: the corner's 2 × 2 block first, in the order (0, 0),
+    /// (1, 0), (0, 1), (1, 1), then the next block along the row; and every aligned 4 × 4 block
+    /// of a lattice is a run of 16 consecutive particles.
+    #[test]
+    fn particles_near_in_index_are_near_in_space() {
+        let d = 0.01;
+        let t = lattice(0.16, 0.08, d, 2370.0).unwrap();
+        let site = |p: usize| {
+            (
+                (t.r[p] as f64 / d - 0.5).round() as usize,
+                (-t.z[p] as f64 / d - 0.5).round() as usize,
+            )
+        };
+        let first: Vec<_> = (0..6).map(site).collect();
+        assert_eq!(first, [(0, 0), (1, 0), (0, 1), (1, 1), (2, 0), (3, 0)]);
+        for block in 0..t.r.len() / 16 {
+            let (i0, k0) = site(16 * block);
+            assert_eq!(
+                (i0 % 4, k0 % 4),
+                (0, 0),
+                "block {block} starts at {i0}, {k0}"
+            );
+            for p in 16 * block..16 * (block + 1) {
+                let (i, k) = site(p);
+                assert!(
+                    (i0..i0 + 4).contains(&i) && (k0..k0 + 4).contains(&k),
+                    "particle {p} at {i}, {k} off its block"
+                );
+            }
+        }
     }
 
     #[test]

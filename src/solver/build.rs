@@ -25,7 +25,7 @@ impl Model {
             spec.cell_pressure,
         );
         let fem = FemParams::new(&spec.material);
-        let (particles, sph) = match &scene.target {
+        let (particles, sph, hit_order) = match &scene.target {
             Some(t) => {
                 let mut lattice = mesh::target::lattice(
                     t.radius,
@@ -38,9 +38,10 @@ impl Model {
                 (
                     Particles::from_lattice(&lattice, t),
                     Some(SphParams::new(t)),
+                    lattice.site,
                 )
             }
-            None => (Particles::default(), None),
+            None => (Particles::default(), None, Vec::new()),
         };
         let shank_from = (spec.nose_z + spec.shape.nose_length(spec.diameter)) as f32;
         let shank = (0..pmesh.elements.len() as u32)
@@ -52,9 +53,11 @@ impl Model {
         let on_nose = nose_masters(&pmesh, shank_from);
         let r_max = pmesh.node_r.iter().copied().fold(0.0f32, f32::max);
         let k = scene.contact.slave_radius_factor as f32;
-        let slaves = (0..particles.len() as u32)
+        // In the order the correction applies their hits (the CPU's detection keeps it).
+        let mut slaves: Vec<u32> = (0..particles.len() as u32)
             .filter(|&i| particles.r[i as usize] <= k * r_max)
             .collect();
+        slaves.sort_unstable_by_key(|&i| hit_order[i as usize]);
         let rigid = scene.contact.lambda == 0.0 && scene.wall.is_none();
         let images = scene.contact.kernel == crate::scene::SurfaceKernel::Images;
         let passes = crate::pass::for_scene(sph.is_some(), !rigid, images);
@@ -78,6 +81,7 @@ impl Model {
             projectile,
             fem,
             slaves,
+            hit_order,
             walls,
             passes,
             time: 0.0,
@@ -274,5 +278,32 @@ mod tests {
             assert_eq!(on, face, "{m:?}");
         }
         assert!(nose.iter().any(|&on| on), "the bar's end face has masters");
+    }
+
+    /// The correction's order is the lattice's, row by row from the face and each row from the
+    /// axis out, though the particles are stored along the Z-order curve: the slave list (the
+    /// order the CPU's detection gives hits in) follows it, and so does `hit_order`, which the
+    /// GPU path sorts its hits by.
+    #[test]
+    fn hits_are_applied_row_by_row_whatever_the_storage_order() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let scene = crate::scene::load(&root.join("cases/smoke.toml"), &[]).unwrap();
+        let mut sim = Simulation::new(&scene).unwrap();
+        let m = sim.model().unwrap();
+        let p = &m.particles;
+        let row_by_row = |a: u32, b: u32| {
+            let (a, b) = (a as usize, b as usize);
+            (-p.z[a], p.r[a]).partial_cmp(&(-p.z[b], p.r[b])).unwrap()
+        };
+        let stored: Vec<u32> = (0..p.len() as u32).collect();
+        assert!(
+            !stored.is_sorted_by(|&a, &b| row_by_row(a, b).is_le()),
+            "the particles are stored row by row: this test checks nothing"
+        );
+        assert!(m.slaves.len() > 100, "{} slaves", m.slaves.len());
+        for pair in m.slaves.windows(2) {
+            assert!(row_by_row(pair[0], pair[1]).is_lt(), "slaves {pair:?}");
+            assert!(m.hit_order[pair[0] as usize] < m.hit_order[pair[1] as usize]);
+        }
     }
 }

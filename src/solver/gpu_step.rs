@@ -117,7 +117,7 @@ impl Model {
             self.last_hits = rb.hits.len();
             if !rb.hits.is_empty() {
                 let mut order: Vec<usize> = (0..rb.hits.len()).collect();
-                order.sort_by_key(|&k| rb.hits[k].0);
+                order.sort_by_key(|&k| self.hit_order[rb.hits[k].0 as usize]);
                 let slave = |k: usize| rb.hits[order[k]].0;
                 let data = |k: usize| rb.hit_data[order[k]][0];
                 let m = order.len();

@@ -137,8 +137,12 @@ pub struct Model {
     pub grid: CellGrid,
     pub projectile: Projectile,
     pub fem: FemParams,
-    /// Slave particles (preselected once, physics.md §4).
+    /// Slave particles (preselected once, physics.md §4), in `hit_order`.
     pub slaves: Vec<u32>,
+    /// Each particle's place in the order the λ correction applies a step's hits (its lattice
+    /// site, row by row from the face: `TargetLattice::site`). The correction is sequential,
+    /// so this order is part of the model; the particles' storage order is not.
+    pub hit_order: Vec<u32>,
     /// With `contact.kernel = "images"`: each particle's wall, the ring force its images exert
     /// on it, and those forces' sums per master segment (`cpu::wall`), the step's last.
     pub walls: Walls,
