@@ -55,11 +55,11 @@ pub fn lattice(
         lateral: Vec::with_capacity(n),
         site: Vec::with_capacity(n),
     };
-    let mut sites: Vec<(usize, usize)> = (0..rows)
-        .flat_map(|k| (0..cols).map(move |i| (i, k)))
-        .collect();
-    sites.sort_unstable_by_key(|&(i, k)| z_order(i, k));
-    for (i, k) in sites {
+    // Sites by their row-by-row index k · cols + i (`check` keeps the count within u32).
+    let mut sites: Vec<u32> = (0..n as u32).collect();
+    sites.sort_unstable_by_key(|&s| z_order(s as usize % cols, s as usize / cols));
+    for site in sites {
+        let (k, i) = (site as usize / cols, site as usize % cols);
         let r = (i as f64 + 0.5) * spacing;
         t.r.push(r as f32);
         t.z.push((-(k as f64 + 0.5) * spacing) as f32);
@@ -67,7 +67,7 @@ pub fn lattice(
             .push((density * 2.0 * PI * r * spacing * spacing) as f32);
         t.rear.push(k + 1 == rows);
         t.lateral.push(i + 1 == cols);
-        t.site.push((k * cols + i) as u32);
+        t.site.push(site);
     }
     Ok(t)
 }
