@@ -81,13 +81,12 @@ def places(order):
 
 def main():
     h = float(sys.argv[1])
-    first = None
+    kept = None
     for frame in sys.argv[2:]:
         p = positions(frame)
         n = len(p)
-        if first is None:
+        if kept is None:
             # The orders a run keeps, laid from its first frame's lattice (first column at Δ/2).
-            first = p
             spacing = 2 * p[:, 0].min()
             col = np.rint(p[:, 0] / spacing - 0.5).astype(np.int64)
             row = np.rint(-p[:, 1] / spacing - 0.5).astype(np.int64)

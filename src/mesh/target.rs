@@ -46,7 +46,19 @@ pub fn lattice(
              thickness must each hold at least 2 particle spacings; make spacing smaller"
         )));
     }
-    let n = cols * rows;
+    // The sites are numbered row by row (k · cols + i) in u32; `check` refuses such a lattice
+    // long before this for its memory.
+    let count = cols
+        .checked_mul(rows)
+        .and_then(|n| u32::try_from(n).ok())
+        .ok_or_else(|| {
+            MeshError(format!(
+                "target lattice of {cols} columns × {rows} rows has more than {} particles: \
+                 make spacing larger",
+                u32::MAX
+            ))
+        })?;
+    let n = count as usize;
     let mut t = TargetLattice {
         r: Vec::with_capacity(n),
         z: Vec::with_capacity(n),
@@ -55,8 +67,7 @@ pub fn lattice(
         lateral: Vec::with_capacity(n),
         site: Vec::with_capacity(n),
     };
-    // Sites by their row-by-row index k · cols + i (`check` keeps the count within u32).
-    let mut sites: Vec<u32> = (0..n as u32).collect();
+    let mut sites: Vec<u32> = (0..count).collect();
     sites.sort_unstable_by_key(|&s| z_order(s as usize % cols, s as usize / cols));
     for site in sites {
         let (k, i) = (site as usize / cols, site as usize % cols);
@@ -335,5 +346,8 @@ mod tests {
         assert!(lattice(0.1, 0.012, 0.01, 2370.0).is_err());
         assert!(lattice(0.014, 0.1, 0.01, 2370.0).is_err());
         assert_eq!(lattice_count(f64::NAN, 0.1, 0.01).0, 0);
+        // More sites than u32 numbers (10⁵ × 10⁵), refused before anything is allocated.
+        let e = lattice(1.0, 1.0, 1e-5, 2370.0).unwrap_err();
+        assert!(e.0.contains("more than 4294967295 particles"), "{}", e.0);
     }
 }
