@@ -56,17 +56,7 @@ pub use readback::Readback;
 use readback::{HitBound, Layout};
 pub use sync::{Sync, Totals};
 
-/// The neighbour lists hold the particles within the support grown by this fraction of it, so
-/// they stay complete until some particle has moved half of the growth, and are built only
-/// then. Measured on lavapipe at 10⁵ particles (`penetrate bench`): a build costs about as much
-/// as both gathers together; a skin of 0.05 adds nothing measurable to the gathers, 0.1 adds a
-/// third; the Forrestal 277 m/s shot at 4 mm spacing then builds once every 38 steps. 0 builds
-/// them every step, as the CPU path searches its neighbours.
-pub const LIST_SKIN: f32 = 0.05;
-
-/// The lists are rebuilt once a particle may have moved this fraction of the half-skin (the
-/// rest is margin for f32 round-off of the displacements).
-const SKIN_USE: f32 = 0.9;
+pub use crate::cpu::neighbours::LIST_SKIN;
 
 /// The SPH passes of a scene with a target.
 struct SphPasses {
@@ -449,7 +439,7 @@ impl GpuStep {
             pending_nodes: false,
             pending_recentre: false,
             pending_forces: false,
-            list_slack: SKIN_USE * 0.5 * s.list_skin * h * crate::kernel::SUPPORT,
+            list_slack: crate::cpu::neighbours::list_slack(h * crate::kernel::SUPPORT, s.list_skin),
             since_build: f32::INFINITY,
             builds: 0,
             host: HostSeconds::default(),

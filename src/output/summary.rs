@@ -131,7 +131,7 @@ pub struct Summary {
     pub rear_ejecta_kg: f64,
     /// Largest speed of a particle or node at the end (m/s).
     pub max_speed_m_s: f64,
-    /// GPU runs: how many steps built the SPH neighbour lists (the rest reused them).
+    /// How many steps built the SPH neighbour lists (the rest reused them).
     pub neighbour_list_builds: u64,
     /// GPU runs: blocking waits, bytes read back and bytes written, by what asked for them
     /// (the steps, the history rows, the full reads, the summary's own included).

@@ -1,8 +1,8 @@
 //! Checkpoints of a run (`penetrate run --checkpoint-every`) and the restart from one
 //! (`--restart`). A checkpoint holds everything that decides the steps still to come and the
 //! outputs still to be written, so that a run killed and restarted ends as it would have
-//! uninterrupted: bit for bit on the CPU path, which rebuilds its neighbour grid every step
-//! and keeps nothing else between steps. A GPU run's state is read back to be written, and a
+//! uninterrupted: bit for bit on the CPU path, whose neighbour lists are built again from the
+//! positions they were last built at. A GPU run's state is read back to be written, and a
 //! restart may go onto either backend; the GPU's neighbour lists are rebuilt on it.
 //!
 //! The file, `restart.bin` in the output folder, little-endian throughout:
@@ -19,8 +19,9 @@
 //! resolved scene (`Scene::resolved_table`); the model's time, step, next Δt, last hit count
 //! and origin, its [`Account`]; every array of the particles, the projectile's nodes and its
 //! elements, in their structs' field order; the wall images' last sums per master segment
-//! (`Model::walls`: the reaction the next integration books; none without images); the run
-//! loop's [`Counters`]; where `history.csv` stood ([`Mark`]); the entries of `frames.pvd`, or
+//! (`Model::walls`: the reaction the next integration books; none without images); the
+//! positions the CPU path's neighbour lists were built at, r then z (none where they must be
+//! built again), and its count of builds; the run loop's [`Counters`]; where `history.csv` stood ([`Mark`]); the entries of `frames.pvd`, or
 //! none for a run without frames. An array is its length (u64) and its items, a string its
 //! length in bytes (u64) and its UTF-8, an option a byte 0 or 1 and the value, a `usize` a
 //! u64, a struct its fields in order. The field lists below are exhaustive patterns: a field added to a state struct does not compile
@@ -46,7 +47,7 @@ use crate::state::{Elements, Nodes, Particles};
 
 /// The format's version: raised whenever the payload changes, so that an older file is
 /// refused by name rather than misread.
-pub const VERSION: u32 = 7;
+pub const VERSION: u32 = 8;
 
 const MAGIC: [u8; 8] = *b"PENETRST";
 
@@ -87,6 +88,10 @@ pub struct State {
     pub elements: Elements,
     /// The wall images' sums per master segment (`Model::walls`), empty without images.
     pub wall_sums: Vec<[f32; 4]>,
+    /// Where the CPU path's neighbour lists were built (`CellGrid::built_at`): r, then z.
+    pub lists_built_at: [Vec<f32>; 2],
+    /// How many times the CPU path built them (`CellGrid::builds`).
+    pub list_builds: u64,
 }
 
 /// Where the run loop stood besides the model: the frames and rows it had written, and when
@@ -120,6 +125,8 @@ struct Parts<'a> {
     nodes: &'a Nodes,
     elements: &'a Elements,
     wall_sums: &'a [[f32; 4]],
+    lists_built_at: [&'a [f32]; 2],
+    list_builds: u64,
     counters: &'a Counters,
     history: &'a Mark,
     frames: Option<&'a [FrameEntry]>,
@@ -147,6 +154,8 @@ impl<'a> Parts<'a> {
             nodes: &m.projectile.nodes,
             elements: &m.projectile.elements,
             wall_sums: &m.walls.sums,
+            lists_built_at: m.grid.built_at().into(),
+            list_builds: m.grid.builds,
             counters,
             history,
             frames,
@@ -169,6 +178,9 @@ impl<'a> Parts<'a> {
         self.nodes.put(w);
         self.elements.put(w);
         self.wall_sums.put(w);
+        self.lists_built_at[0].put(w);
+        self.lists_built_at[1].put(w);
+        self.list_builds.put(w);
         self.counters.put(w);
         self.history.put(w);
         self.frames.put(w);
@@ -200,6 +212,8 @@ impl Checkpoint {
             nodes: &s.nodes,
             elements: &s.elements,
             wall_sums: &s.wall_sums,
+            lists_built_at: [&s.lists_built_at[0], &s.lists_built_at[1]],
+            list_builds: s.list_builds,
             counters: &self.counters,
             history: &self.history,
             frames: self.frames.as_deref(),
@@ -258,6 +272,8 @@ impl Checkpoint {
             nodes: Get::get(r)?,
             elements: Get::get(r)?,
             wall_sums: Get::get(r)?,
+            lists_built_at: [Get::get(r)?, Get::get(r)?],
+            list_builds: Get::get(r)?,
         };
         let checkpoint = Checkpoint {
             build,
@@ -379,8 +395,10 @@ impl Restart {
         model.last_hits = s.last_hits;
         model.origin = s.origin;
         model.account = std::mem::take(&mut s.account);
-        // No neighbour grid: the CPU step builds its own before the gathers read it, and the
-        // GPU never reads the host's.
+        // The CPU step builds its lists where the run had (so that it sums each particle's
+        // neighbours in the same order); the GPU never reads the host's and builds its own.
+        let [r, z] = std::mem::take(&mut s.lists_built_at);
+        model.grid.restore(r, z, s.list_builds);
         Ok(())
     }
 

@@ -212,8 +212,10 @@ impl Model {
     }
 
     /// Move every particle and node by `by` along z and the model's origin the other way: the
-    /// world's positions stay where they are.
+    /// world's positions stay where they are. The neighbour lists are built again from the
+    /// moved positions, as the GPU's are.
     pub(super) fn recentre(&mut self, by: f32) {
+        self.grid.invalidate();
         self.particles.z.iter_mut().for_each(|z| *z += by);
         self.projectile.nodes.z.iter_mut().for_each(|z| *z += by);
         self.origin -= by as f64;

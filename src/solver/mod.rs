@@ -242,11 +242,6 @@ impl Simulation {
         self.stepper.gpu()
     }
 
-    /// Neighbour-list builds on the GPU so far (0 on the CPU, which sorts every step).
-    pub fn gpu_builds(&self) -> u64 {
-        self.stepper.builds().unwrap_or(0)
-    }
-
     /// "cpu" or "gpu": where the step runs.
     pub fn backend(&self) -> &'static str {
         self.stepper.backend()

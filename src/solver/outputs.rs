@@ -196,7 +196,7 @@ impl Model {
             rear_ejecta_kg: ejecta[1],
             max_speed_m_s: self.max_speed(),
             max_residual_penetration_m: a.max_residual_penetration as f64,
-            neighbour_list_builds: stepper.builds().unwrap_or(0),
+            neighbour_list_builds: stepper.builds().unwrap_or(self.grid.builds),
             gpu_transfers: stepper.traffic(),
             fem_limited_steps: a.fem_limited_steps,
             sph_limited_steps: a.sph_limited_steps,
