@@ -1333,6 +1333,9 @@ fn bench_refuses_what_it_cannot_time() {
     assert!(row.refused.is_none(), "{:?}", row.refused);
     assert_eq!(row.steps, 1);
     assert!(row.ms_per_step > 0.0 && row.particles > 1000);
+    // One timed step from five at rest builds no lists; the cost of one that does is timed.
+    assert_eq!(row.list_builds, Some(0));
+    assert!(row.build_ms.is_some_and(f64::is_finite));
 }
 
 /// Ctrl-C (SIGINT) ends a run at the end of its step with what a finished run writes: the

@@ -242,6 +242,19 @@ impl Simulation {
         self.stepper.gpu()
     }
 
+    /// Steps that built the neighbour lists so far, on either backend.
+    pub fn list_builds(&self) -> u64 {
+        self.stepper.builds().unwrap_or(self.model.grid.builds)
+    }
+
+    /// Build the neighbour lists in the next step whatever the particles did (`bench`).
+    pub fn force_list_build(&mut self) {
+        match self.stepper.gpu() {
+            Some(g) => g.force_list_build(),
+            None => self.model.grid.invalidate(),
+        }
+    }
+
     /// "cpu" or "gpu": where the step runs.
     pub fn backend(&self) -> &'static str {
         self.stepper.backend()

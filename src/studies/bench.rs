@@ -120,8 +120,7 @@ pub fn run(
             log(&format!(
                 "bench: {n} particles on the {name}: {timed} steps"
             ));
-            let builds = |sim: &mut Simulation| sim.gpu_step().map(|g| g.builds);
-            let builds_before = builds(&mut sim);
+            let builds_before = sim.list_builds();
             let host_before = sim.gpu_step().map(|g| g.host);
             let step_traffic = |sim: &mut Simulation| sim.gpu_step().map(|g| g.traffic.steps);
             let traffic_before = step_traffic(&mut sim);
@@ -159,7 +158,14 @@ pub fn run(
                     per_step(a.written_bytes, b.written_bytes),
                 )
             });
-            let list_builds = builds(&mut sim).zip(builds_before).map(|(a, b)| a - b);
+            let list_builds = Some(sim.list_builds() - builds_before);
+            // Steps that each build the lists: their extra time, and on the GPU their dispatches.
+            let building = timed.min(10);
+            let before = dispatched(&mut sim);
+            let build_ms = build_cost(&mut sim, 1e3 * wall / timed as f64, building)?;
+            let per_build = dispatched(&mut sim)
+                .zip(before)
+                .map(|(a, b)| (a - b) as f64 / building.max(1) as f64);
             let on_gpu = sim.backend() == "gpu";
             let m = sim.model().map_err(|e| e.to_string())?;
             let (particles, elements) = (m.particles.len(), m.projectile.elements.len());
@@ -178,7 +184,7 @@ pub fn run(
                 readback_us: None,
                 bytes_per_particle: None,
                 list_builds,
-                build_ms: None,
+                build_ms: Some(build_ms),
                 host_us,
                 dispatches: None,
                 step_bytes,
@@ -187,12 +193,6 @@ pub fn run(
             if let Some(g) = sim.gpu_step() {
                 row.bytes_per_particle = Some(g.gpu_bytes() as f64 / particles.max(1) as f64);
                 row.readback_us = Some(g.readback_latency(50).map_err(|e| e.to_string())? * 1e6);
-                let building = timed.min(10);
-                let before = dispatched(&mut sim);
-                row.build_ms = Some(build_cost(&mut sim, row.ms_per_step, building)?);
-                let per_build = dispatched(&mut sim)
-                    .zip(before)
-                    .map(|(a, b)| (a - b) as f64 / building.max(1) as f64);
                 row.dispatches = fewest_dispatches.zip(per_build);
             }
             row.pass_ms = profile(&mut sim, 10)?;
@@ -202,14 +202,12 @@ pub fn run(
     Ok(rows)
 }
 
-/// How much longer a GPU step is when it builds the neighbour lists than `plain_ms`, over
-/// `steps` steps that each build them (ms).
+/// How much longer a step is when it builds the neighbour lists than `plain_ms`, over `steps`
+/// steps that each build them (ms).
 fn build_cost(sim: &mut Simulation, plain_ms: f64, steps: usize) -> Result<f64, String> {
     let start = Instant::now();
     for _ in 0..steps {
-        if let Some(g) = sim.gpu_step() {
-            g.force_list_build();
-        }
+        sim.force_list_build();
         sim.step().map_err(|e| e.to_string())?;
     }
     Ok(1e3 * start.elapsed().as_secs_f64() / steps.max(1) as f64 - plain_ms)
