@@ -492,22 +492,22 @@ pub struct Neighbour {
     pub mirror: bool,
 }
 
-/// Call `f` for every neighbour of particle i within `support`: first the real ones (j ≠ i),
-/// then, near the axis, the axis ghosts (j = i included). A ghost of j is never nearer than j
-/// itself, so the ghosts are found among the same candidates. (Two sweeps, not one, so that the
-/// GPU twin, shaders/neighbour_loop.wgsl, can skip the ghost sweep away from the axis; the
-/// order of the sums is the same on both sides.)
+/// Call `f` for every particle within `radius` of particle i (the lists' radius, or the
+/// support): first the real ones (j ≠ i), then, near the axis, the axis ghosts (j = i
+/// included). A ghost of j is never nearer than j itself, so the ghosts are found among the same
+/// candidates. (Two sweeps, not one, so that the GPU twin, shaders/neighbour_loop.wgsl, can skip
+/// the ghost sweep away from the axis; the order of the sums is the same on both sides.)
 #[inline]
 pub fn for_each_neighbour(
     grid: &CellGrid,
     r: &[f32],
     z: &[f32],
     i: usize,
-    support: f32,
+    radius: f32,
     mut f: impl FnMut(Neighbour),
 ) {
     let (ri, zi) = (r[i], z[i]);
-    let s2 = support * support;
+    let s2 = radius * radius;
     grid.for_each_candidate(ri, zi, |j| {
         let dr = ri - r[j];
         let dz = zi - z[j];
@@ -522,7 +522,7 @@ pub fn for_each_neighbour(
             });
         }
     });
-    if ri < support {
+    if ri < radius {
         grid.for_each_candidate(ri, zi, |j| {
             let dr = ri + r[j];
             let dz = zi - z[j];
