@@ -1095,6 +1095,70 @@ fn same_bits_on_one_and_two_threads() {
     assert!(run(1) == run(2), "results differ between 1 and 2 threads");
 }
 
+/// `sweep --batch` on the CPU makes its runs at once, each on a share of the threads (here
+/// four threads over three runs: two, one and one), and every run's history.csv and frames are
+/// its solo run's to the byte. The runs end at different steps (the swept key is the end time),
+/// so a run starts in a pool another has left.
+#[test]
+fn a_cpu_batch_changes_no_run() {
+    let sweep = |batch: &str| {
+        let out = common::scratch("cpu-batch", batch);
+        let o = Command::new(env!("CARGO_BIN_EXE_penetrate"))
+            .args([
+                "sweep",
+                "cases/smoke.toml",
+                "--vary",
+                "run.end_time=2e-5:5e-5:1e-5",
+            ])
+            .args(["--set", "projectile.velocity=600", "--backend", "cpu"])
+            .args(["--batch", batch, "--out", out.to_str().unwrap()])
+            .env("RAYON_NUM_THREADS", "4")
+            .current_dir(common::root())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", common::stderr(&o));
+        if batch == "3" {
+            let said = common::stderr(&o);
+            assert!(
+                said.contains("3 at a time, on 2, 1, 1 of 4 threads"),
+                "{said}"
+            );
+        }
+        out
+    };
+    let (solo, batched) = (sweep("1"), sweep("3"));
+    let mut compared = 0;
+    for member in std::fs::read_dir(&solo).unwrap().map(|e| e.unwrap().path()) {
+        if !member.is_dir() {
+            continue;
+        }
+        let name = member.file_name().unwrap();
+        for file in std::fs::read_dir(&member)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+        {
+            if file == "summary.json" {
+                continue;
+            }
+            let got = std::fs::read(batched.join(name).join(&file)).unwrap();
+            assert!(
+                got == std::fs::read(member.join(&file)).unwrap(),
+                "{name:?}/{file:?} differs from the solo run's"
+            );
+            compared += 1;
+        }
+        let depth = |dir: &Path| {
+            let text = std::fs::read_to_string(dir.join(name).join("summary.json")).unwrap();
+            let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
+            (summary["depth_m"].as_f64(), summary["steps"].as_u64())
+        };
+        assert_eq!(depth(&solo), depth(&batched), "{name:?}");
+    }
+    assert!(compared >= 4 * 3, "{compared} files compared");
+    let _ = std::fs::remove_dir_all(&solo);
+    let _ = std::fs::remove_dir_all(&batched);
+}
+
 /// Every scene of the stability suite loads: the scene file's bounds on real materials must not
 /// refuse the suite's own scenes (a steel 10 or 100 times stiffer is scaled on the loaded
 /// scene), and the stiff ones' elastic wave speed is √10 and 10 times the base's, so their

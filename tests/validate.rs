@@ -1004,16 +1004,27 @@ fn damage_area_of_a_fully_damaged_projectile_is_its_section() {
 #[test]
 #[ignore = "full tier: needs a GPU adapter (bash scripts/test)"]
 fn a_batched_validation_changes_no_run() {
-    let one = scratch("validate-one-by-one");
-    let batched = scratch("validate-batched");
-    let o = quick_only("gpu", "forrestal", &one);
+    batched_validation_changes_no_run("gpu");
+}
+
+/// The same on the CPU path, where `--batch 4` makes the runs at once on a share of the
+/// threads each.
+#[test]
+fn a_batched_validation_on_the_cpu_changes_no_run() {
+    batched_validation_changes_no_run("cpu");
+}
+
+fn batched_validation_changes_no_run(backend: &str) {
+    let one = scratch(&format!("validate-one-by-one-{backend}"));
+    let batched = scratch(&format!("validate-batched-{backend}"));
+    let o = quick_only(backend, "forrestal", &one);
     assert!(o.status.success(), "{}", stderr(&o));
     let data = data();
     let o = penetrate(&[
         "validate",
         "--quick",
         "--backend",
-        "gpu",
+        backend,
         "--only",
         "forrestal",
         "--batch",

@@ -86,8 +86,9 @@ pub struct SweepArgs {
     /// job array of the runs (`--emit slurm DIR`; submit with `sbatch DIR/sweep.sbatch`).
     #[arg(long, num_args = 2, value_names = ["SCHEDULER", "DIR"])]
     emit: Option<Vec<OsString>>,
-    /// Step N runs at a time together on one GPU, sharing each step's submission and wait
-    /// (each run's results are its own run's alone, to the bit) [default: 1].
+    /// Make N runs at a time: on the GPU stepped together, sharing each step's submission
+    /// and wait; on the CPU each on 1/N of the cores (each run's results are its own run's
+    /// alone, to the bit) [default: 1].
     #[arg(
         long,
         value_name = "N",
@@ -162,8 +163,9 @@ pub struct ValidateArgs {
     /// after a change to the report alone. The report lists the build of every run.
     #[arg(long, value_delimiter = ',')]
     resume_build: Vec<String>,
-    /// Step the runs on the GPU N at a time together, sharing each step's submission and wait
-    /// (each run's results are its own run's alone, to the bit).
+    /// Make the runs N at a time: on the GPU stepped together, sharing each step's submission
+    /// and wait; on the CPU each on 1/N of the cores (each run's results are its own run's
+    /// alone, to the bit).
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u32).range(1..=64))]
     batch: u32,

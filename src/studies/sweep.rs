@@ -232,10 +232,11 @@ pub struct RunSettings {
     pub adapter: Option<String>,
     /// Write VTK frames.
     pub vtk: bool,
-    /// Runs stepped together on one GPU (`--batch N`; 0 or 1: one after another).
+    /// Runs made at a time (`--batch N`; 0 or 1: one after another): on the GPU stepped
+    /// together, on the CPU each on its share of the cores ([`run_batched`]).
     pub batch: usize,
     /// Write each run's checkpoint [`CHECKPOINTS_PER_RUN`] times over its end time, removed
-    /// once it completes (runs one after another only: a batch's members are not saved).
+    /// once it completes (not the members of a GPU batch: they are not saved).
     pub checkpoint: bool,
     /// Go on from a run folder's checkpoint where it holds one of this build and scene, as a
     /// killed or interrupted run left it (`validate --resume`); otherwise start afresh.
@@ -265,7 +266,7 @@ pub fn check_backend(
 }
 
 /// Runs `planned` in process: one after another, or with `settings.batch` > 1 that many at a
-/// time stepping together on one GPU (`run_batched`). A run that goes unstable or cannot start
+/// time (`run_batched`). A run that goes unstable or cannot start
 /// is recorded and the set goes on; only an unwritable output stops it. `progress` sees each
 /// record as it is made.
 pub fn run_set(
@@ -335,9 +336,13 @@ fn run_one(
     })
 }
 
-/// `settings.batch` runs at a time, each on a thread of its own, on one device whose
-/// submissions they share (`gpu::batch`): as one ends, the next planned run takes its place.
-/// Every run must be on the GPU. The records come back in the planned order.
+/// `settings.batch` runs at a time, each on a thread of its own: as one ends, the next planned
+/// run takes its place. Runs on the GPU share one device and its submissions (`gpu::batch`);
+/// runs on the CPU each step on a thread pool of their own, the cores shared out among the
+/// threads ([`core_shares`]), so that N runs go as fast as their passes scale on 1/N of the
+/// cores rather than one after another on all of them. Either way a run does exactly the work
+/// it does alone (the CPU path's bits do not depend on its thread count). The records come
+/// back in the planned order.
 fn run_batched(
     planned: Vec<Planned>,
     settings: &RunSettings,
@@ -346,23 +351,36 @@ fn run_batched(
     let mut planned = planned;
     for p in &mut planned {
         // `auto` is the GPU where it finds one, as each run alone would resolve it.
-        let (backend, why) = solver::resolve(p.spec.backend, settings.adapter.as_deref());
-        if backend != Backend::Gpu {
-            let why = why.map_or(String::new(), |w| format!(" ({w})"));
-            return Err(SweepError::Backend(format!(
-                "--batch {}: the runs step together on one GPU, but {} is on the CPU path{why}: \
-                 give --backend gpu, or leave out --batch",
-                settings.batch, p.spec.label,
-            )));
-        }
-        p.spec.backend = backend;
+        p.spec.backend = solver::resolve(p.spec.backend, settings.adapter.as_deref()).0;
     }
-    let gpu = crate::gpu::Gpu::new(settings.adapter.as_deref())
-        .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))?;
-    let share = Arc::new(GpuShare {
-        gpu,
-        batch: Batch::new(),
-    });
+    let share = match planned.iter().any(|p| p.spec.backend == Backend::Gpu) {
+        true => Some(Arc::new(GpuShare {
+            gpu: crate::gpu::Gpu::new(settings.adapter.as_deref())
+                .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))?,
+            batch: Batch::new(),
+        })),
+        false => None,
+    };
+    let workers = settings.batch.min(planned.len());
+    let threads = rayon::current_num_threads();
+    let shares = core_shares(threads, workers);
+    if planned.iter().any(|p| p.spec.backend != Backend::Gpu) {
+        let each: Vec<String> = shares.iter().map(usize::to_string).collect();
+        eprintln!(
+            "--batch {}: runs on the CPU path {workers} at a time, on {} of {threads} threads",
+            settings.batch,
+            each.join(", ")
+        );
+    }
+    let pools = shares
+        .into_iter()
+        .map(|threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let n = planned.len();
     let queue = &Mutex::new(planned.into_iter().enumerate());
     // Set when an output cannot be written: the runs under way finish, no new one starts.
@@ -371,7 +389,7 @@ fn run_batched(
     let mut error = None;
     let (tx, rx) = mpsc::channel();
     std::thread::scope(|scope| {
-        for _ in 0..settings.batch.min(n) {
+        for pool in &pools {
             let (tx, share) = (tx.clone(), share.clone());
             scope.spawn(move || loop {
                 if stop.load(Ordering::Relaxed) || crate::interrupt::requested() {
@@ -381,7 +399,10 @@ fn run_batched(
                 let Some((k, Planned { spec, scene })) = next else {
                     return;
                 };
-                let result = run_one(spec, scene, settings, Some(share.clone()));
+                let result = match spec.backend {
+                    Backend::Gpu => run_one(spec, scene, settings, share.clone()),
+                    _ => pool.install(|| run_one(spec, scene, settings, None)),
+                };
                 if tx.send((k, result)).is_err() {
                     return;
                 }
@@ -401,7 +422,7 @@ fn run_batched(
             }
         }
     });
-    let (submissions, steps) = share.batch.counts();
+    let (submissions, steps) = share.map_or((0, 0), |s| s.batch.counts());
     if submissions > 0 {
         eprintln!(
             "--batch {}: {steps} steps in {submissions} submissions ({:.2} a submission)",
@@ -413,6 +434,14 @@ fn run_batched(
         Some(e) => Err(e),
         None => Ok(records.into_iter().flatten().collect()),
     }
+}
+
+/// The threads of each of `workers` CPU runs made at once out of `threads` in all: as even
+/// as they go, and at least one each (more runs than threads share the cores).
+fn core_shares(threads: usize, workers: usize) -> Vec<usize> {
+    (0..workers)
+        .map(|k| (threads / workers + usize::from(k < threads % workers)).max(1))
+        .collect()
 }
 
 /// Why a run folder holds no summary of the run asked for ([`summary_left`]).
@@ -729,6 +758,25 @@ mod tests {
         write(&good);
         assert!(taken().is_some(), "the summary written back");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A CPU batch shares every thread out, none idle and none counted twice, while there are
+    /// as many threads as runs; with fewer, each run still gets one.
+    #[test]
+    fn a_cpu_batch_shares_the_threads_out() {
+        assert_eq!(core_shares(2, 2), [1, 1]);
+        assert_eq!(core_shares(16, 3), [6, 5, 5]);
+        assert_eq!(core_shares(8, 1), [8]);
+        assert_eq!(core_shares(2, 4), [1, 1, 1, 1]);
+        for (threads, workers) in [(7, 2), (64, 5), (3, 3)] {
+            let shares = core_shares(threads, workers);
+            assert_eq!(
+                shares.iter().sum::<usize>(),
+                threads,
+                "{threads} over {workers}"
+            );
+            assert!(shares.iter().max().unwrap() - shares.iter().min().unwrap() <= 1);
+        }
     }
 
     #[test]

@@ -85,8 +85,8 @@ impl Context<'_> {
 
     /// Runs `asks`, reusing any earlier run of the same resolved scene on the same backend,
     /// and returns their records in the order asked. Every scene is loaded before the first
-    /// run; the runs still to make go one after another, those on the GPU `opts.batch` at a
-    /// time (`sweep --batch`).
+    /// run; the runs still to make go `opts.batch` at a time (`sweep --batch`), those on the
+    /// CPU path first and then those on the GPU.
     pub(super) fn run(
         &mut self,
         section: Section,
@@ -137,7 +137,7 @@ impl Context<'_> {
         let (on_gpu, rest): (Vec<_>, Vec<_>) = todo
             .into_iter()
             .partition(|(_, p)| p.spec.backend == Backend::Gpu);
-        for (group, batch) in [(rest, 1), (on_gpu, self.opts.batch)] {
+        for group in [rest, on_gpu] {
             let (places, planned): (Vec<usize>, Vec<sweep::Planned>) = group.into_iter().unzip();
             if planned.is_empty() {
                 continue;
@@ -147,7 +147,7 @@ impl Context<'_> {
             let settings = RunSettings {
                 adapter: self.opts.adapter.clone(),
                 vtk,
-                batch,
+                batch: self.opts.batch,
                 checkpoint: true,
                 restart: self.opts.resume,
             };

@@ -185,7 +185,7 @@ pub struct Options {
     /// With `resume`, also take runs made by these builds (their fingerprints, 16 hex digits):
     /// the report lists the build of every run it used.
     pub resume_builds: Vec<String>,
-    /// Runs on the GPU stepped this many at a time together (`sweep --batch`).
+    /// Runs made this many at a time (`sweep --batch`).
     pub batch: usize,
     /// Scene values (`KEY=VALUE`, as `run --set`) set in every run whose scene has the key's
     /// table (`target.` and `contact.` keys: the runs with a target): a changed parameter set
