@@ -1007,8 +1007,7 @@ fn a_batched_validation_changes_no_run() {
     batched_validation_changes_no_run("gpu");
 }
 
-/// The same on the CPU path, where `--batch 4` makes the runs at once on a share of the
-/// threads each.
+/// The same on the CPU path, where `--batch 4` makes the runs at once, sharing the threads.
 #[test]
 fn a_batched_validation_on_the_cpu_changes_no_run() {
     batched_validation_changes_no_run("cpu");

@@ -87,7 +87,7 @@ pub struct SweepArgs {
     #[arg(long, num_args = 2, value_names = ["SCHEDULER", "DIR"])]
     emit: Option<Vec<OsString>>,
     /// Make N runs at a time: on the GPU stepped together, sharing each step's submission
-    /// and wait; on the CPU each on 1/N of the cores (each run's results are its own run's
+    /// and wait; on the CPU sharing the cores (each run's results are its own run's
     /// alone, to the bit) [default: 1].
     #[arg(
         long,
@@ -164,7 +164,7 @@ pub struct ValidateArgs {
     #[arg(long, value_delimiter = ',')]
     resume_build: Vec<String>,
     /// Make the runs N at a time: on the GPU stepped together, sharing each step's submission
-    /// and wait; on the CPU each on 1/N of the cores (each run's results are its own run's
+    /// and wait; on the CPU sharing the cores (each run's results are its own run's
     /// alone, to the bit).
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u32).range(1..=64))]

@@ -233,7 +233,7 @@ pub struct RunSettings {
     /// Write VTK frames.
     pub vtk: bool,
     /// Runs made at a time (`--batch N`; 0 or 1: one after another): on the GPU stepped
-    /// together, on the CPU each on its share of the cores ([`run_batched`]).
+    /// together, on the CPU sharing the thread pool ([`run_batched`]).
     pub batch: usize,
     /// Write each run's checkpoint [`CHECKPOINTS_PER_RUN`] times over its end time, removed
     /// once it completes (not the members of a GPU batch: they are not saved).
@@ -337,12 +337,11 @@ fn run_one(
 }
 
 /// `settings.batch` runs at a time, each on a thread of its own: as one ends, the next planned
-/// run takes its place. Runs on the GPU share one device and its submissions (`gpu::batch`);
-/// runs on the CPU each step on a thread pool of their own, the cores shared out among the
-/// threads ([`core_shares`]), so that N runs go as fast as their passes scale on 1/N of the
-/// cores rather than one after another on all of them. Either way a run does exactly the work
-/// it does alone (the CPU path's bits do not depend on its thread count). The records come
-/// back in the planned order.
+/// run takes its place. Runs on the GPU share one device and its submissions (`gpu::batch`).
+/// Runs on the CPU share the thread pool: the threads one run leaves idle (between its passes,
+/// in a pass's uneven end) work on the others', and a run left alone at the end has them all.
+/// Either way a run does exactly the work it does alone (the CPU path's bits do not depend on
+/// how its passes are shared out over threads). The records come back in the planned order.
 fn run_batched(
     planned: Vec<Planned>,
     settings: &RunSettings,
@@ -362,25 +361,13 @@ fn run_batched(
         false => None,
     };
     let workers = settings.batch.min(planned.len());
-    let threads = rayon::current_num_threads();
-    let shares = core_shares(threads, workers);
     if planned.iter().any(|p| p.spec.backend != Backend::Gpu) {
-        let each: Vec<String> = shares.iter().map(usize::to_string).collect();
         eprintln!(
-            "--batch {}: runs on the CPU path {workers} at a time, on {} of {threads} threads",
+            "--batch {}: runs on the CPU path {workers} at a time, sharing {} threads",
             settings.batch,
-            each.join(", ")
+            rayon::current_num_threads()
         );
     }
-    let pools = shares
-        .into_iter()
-        .map(|threads| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
     let n = planned.len();
     let queue = &Mutex::new(planned.into_iter().enumerate());
     // Set when an output cannot be written: the runs under way finish, no new one starts.
@@ -389,7 +376,7 @@ fn run_batched(
     let mut error = None;
     let (tx, rx) = mpsc::channel();
     std::thread::scope(|scope| {
-        for pool in &pools {
+        for _ in 0..workers {
             let (tx, share) = (tx.clone(), share.clone());
             scope.spawn(move || loop {
                 if stop.load(Ordering::Relaxed) || crate::interrupt::requested() {
@@ -399,10 +386,8 @@ fn run_batched(
                 let Some((k, Planned { spec, scene })) = next else {
                     return;
                 };
-                let result = match spec.backend {
-                    Backend::Gpu => run_one(spec, scene, settings, share.clone()),
-                    _ => pool.install(|| run_one(spec, scene, settings, None)),
-                };
+                let share = share.clone().filter(|_| spec.backend == Backend::Gpu);
+                let result = run_one(spec, scene, settings, share);
                 if tx.send((k, result)).is_err() {
                     return;
                 }
@@ -434,14 +419,6 @@ fn run_batched(
         Some(e) => Err(e),
         None => Ok(records.into_iter().flatten().collect()),
     }
-}
-
-/// The threads of each of `workers` CPU runs made at once out of `threads` in all: as even
-/// as they go, and at least one each (more runs than threads share the cores).
-fn core_shares(threads: usize, workers: usize) -> Vec<usize> {
-    (0..workers)
-        .map(|k| (threads / workers + usize::from(k < threads % workers)).max(1))
-        .collect()
 }
 
 /// Why a run folder holds no summary of the run asked for ([`summary_left`]).
@@ -758,25 +735,6 @@ mod tests {
         write(&good);
         assert!(taken().is_some(), "the summary written back");
         let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    /// A CPU batch shares every thread out, none idle and none counted twice, while there are
-    /// as many threads as runs; with fewer, each run still gets one.
-    #[test]
-    fn a_cpu_batch_shares_the_threads_out() {
-        assert_eq!(core_shares(2, 2), [1, 1]);
-        assert_eq!(core_shares(16, 3), [6, 5, 5]);
-        assert_eq!(core_shares(8, 1), [8]);
-        assert_eq!(core_shares(2, 4), [1, 1, 1, 1]);
-        for (threads, workers) in [(7, 2), (64, 5), (3, 3)] {
-            let shares = core_shares(threads, workers);
-            assert_eq!(
-                shares.iter().sum::<usize>(),
-                threads,
-                "{threads} over {workers}"
-            );
-            assert!(shares.iter().max().unwrap() - shares.iter().min().unwrap() <= 1);
-        }
     }
 
     #[test]
