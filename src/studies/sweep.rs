@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 
+use crate::estimate;
 use crate::gpu::batch::{Batch, GpuShare};
 use crate::output::summary::{fingerprint, same_build, Summary};
 use crate::scene::{self, Backend, Scene, SceneError};
@@ -134,6 +135,8 @@ pub enum SweepError {
     Io(String),
     /// Ctrl-C or SIGTERM stopped the sweep ([`crate::interrupt`]).
     Interrupted(String),
+    /// A `--batch` whose runs would not fit in memory together.
+    Batch(String),
 }
 
 impl SweepError {
@@ -154,7 +157,8 @@ impl fmt::Display for SweepError {
             | SweepError::Backend(m)
             | SweepError::Folder(m)
             | SweepError::Io(m)
-            | SweepError::Interrupted(m) => f.write_str(m),
+            | SweepError::Interrupted(m)
+            | SweepError::Batch(m) => f.write_str(m),
             SweepError::Scene(e) => write!(f, "{e}"),
         }
     }
@@ -361,6 +365,12 @@ fn run_batched(
         false => None,
     };
     let workers = settings.batch.min(planned.len());
+    check_batch_fits(
+        &planned,
+        workers,
+        settings.batch,
+        estimate::available_memory(),
+    )?;
     if planned.iter().any(|p| p.spec.backend != Backend::Gpu) {
         eprintln!(
             "--batch {}: runs on the CPU path {workers} at a time, sharing {} threads",
@@ -419,6 +429,36 @@ fn run_batched(
         Some(e) => Err(e),
         None => Ok(records.into_iter().flatten().collect()),
     }
+}
+
+/// Any `workers` runs of a batch may be under way at once, each holding its state on the host:
+/// refuse the batch before any starts when the largest `workers` of them would need more than
+/// one run may take alone (`estimate::check_fits`: half of `available` bytes), rather than
+/// leave the machine to run out of memory part-way.
+fn check_batch_fits(
+    planned: &[Planned],
+    workers: usize,
+    batch: usize,
+    available: f64,
+) -> Result<(), SweepError> {
+    let mut bytes: Vec<f64> = planned
+        .iter()
+        .map(|p| estimate::footprint(&p.scene).bytes)
+        .collect();
+    bytes.sort_by(|a, b| b.total_cmp(a));
+    let together: f64 = bytes.iter().take(workers).sum();
+    if workers > 1 && together > 0.5 * available {
+        let gib = |b: f64| b / (1024.0 * estimate::MIB);
+        return Err(SweepError::Batch(format!(
+            "--batch {batch}: the {workers} largest runs need ≈ {:.1} GiB together, more than \
+             the half of the ≈ {:.1} GiB available that runs may take (each alone needs at \
+             most ≈ {:.1} GiB): give a smaller --batch",
+            gib(together),
+            gib(available),
+            gib(bytes[0]),
+        )));
+    }
+    Ok(())
 }
 
 /// Why a run folder holds no summary of the run asked for ([`summary_left`]).
@@ -735,6 +775,47 @@ mod tests {
         write(&good);
         assert!(taken().is_some(), "the summary written back");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A batch is refused when the runs it would make at once need more memory together than
+    /// one run may take alone, and only then: the largest runs are counted, as many as the
+    /// batch makes at once.
+    #[test]
+    fn a_batch_that_would_not_fit_in_memory_is_refused() {
+        let run = |spacing: &str| {
+            let scene = scene::shipped_case("smoke.toml", &[spacing]);
+            Planned {
+                spec: RunSpec {
+                    label: spacing.into(),
+                    case: PathBuf::from("cases/smoke.toml"),
+                    overrides: vec![spacing.into()],
+                    backend: Backend::Cpu,
+                    dir: PathBuf::from("unused"),
+                },
+                scene,
+            }
+        };
+        let planned = vec![
+            run("target.spacing=0.004"),
+            run("target.spacing=0.002"),
+            run("target.spacing=0.003"),
+        ];
+        let bytes: Vec<f64> = planned
+            .iter()
+            .map(|p| estimate::footprint(&p.scene).bytes)
+            .collect();
+        assert!(bytes[1] > bytes[2] && bytes[2] > bytes[0], "{bytes:?}");
+        // Room for the two largest together, but not a byte more.
+        let room = 2.0 * (bytes[1] + bytes[2]);
+        assert!(check_batch_fits(&planned, 2, 2, room).is_ok());
+        assert!(check_batch_fits(&planned, 3, 4, room).is_err());
+        let err = check_batch_fits(&planned, 2, 2, 0.99 * room).unwrap_err();
+        assert!(matches!(err, SweepError::Batch(_)), "{err:?}");
+        let said = err.to_string();
+        assert!(said.contains("--batch 2: the 2 largest runs"), "{said}");
+        assert!(said.contains("give a smaller --batch"), "{said}");
+        // Alone, a run is for `check_fits` to judge.
+        assert!(check_batch_fits(&planned, 1, 1, bytes[0]).is_ok());
     }
 
     #[test]
