@@ -1,5 +1,7 @@
 //! Up-front estimates for `penetrate check`: counts, stable step, step count, memory.
 
+use std::path::{Path, PathBuf};
+
 use crate::materials::hjc;
 use crate::mesh::geometry::Geometry;
 use crate::mesh::{self, ProjectileMesh};
@@ -66,17 +68,91 @@ fn particle_count(t: &TargetSpec) -> usize {
     cols.checked_mul(rows).map_or(usize::MAX, |n| n - drilled)
 }
 
-/// Memory this machine can give a run (bytes): MemAvailable of /proc/meminfo, or 8 GiB where it
-/// cannot be read.
+/// Memory this machine can give a run (bytes): MemAvailable of /proc/meminfo (8 GiB where it
+/// cannot be read), or less where the process's memory cgroup has less room left: a batch
+/// job's limit (Slurm's `--mem`) is its cgroup's, whatever the node has free.
 pub fn available_memory() -> f64 {
-    std::fs::read_to_string("/proc/meminfo")
+    let free = std::fs::read_to_string("/proc/meminfo")
         .ok()
         .and_then(|text| {
             let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
             let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
             Some(kib * 1024.0)
         })
-        .unwrap_or(8.0 * 1024.0 * 1024.0 * 1024.0)
+        .unwrap_or(8.0 * 1024.0 * 1024.0 * 1024.0);
+    std::fs::read_to_string("/proc/self/cgroup")
+        .ok()
+        .and_then(|text| cgroup_room(&text, Path::new("/sys/fs/cgroup")))
+        .map_or(free, |room| room.min(free))
+}
+
+/// Room left under the memory limits of the cgroup that `proc_cgroup` (the text of
+/// /proc/self/cgroup) names and of its ancestors, the hierarchies mounted under `root`: the
+/// limit less the usage that cannot be reclaimed (inactive file pages can): v2's `memory.max`,
+/// `memory.current` and `memory.stat`'s `inactive_file`, v1's `memory.limit_in_bytes`,
+/// `memory.usage_in_bytes` and `total_inactive_file`. None where no limit is set or readable.
+fn cgroup_room(proc_cgroup: &str, root: &Path) -> Option<f64> {
+    let bytes = |path: PathBuf| -> Option<f64> {
+        std::fs::read_to_string(path)
+            .ok()?
+            .trim()
+            .parse::<u64>()
+            .ok()
+            .map(|b| b as f64)
+    };
+    let stat = |path: PathBuf, key: &str| -> f64 {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        text.lines()
+            .find_map(|l| {
+                l.strip_prefix(key)?
+                    .strip_prefix(' ')?
+                    .trim()
+                    .parse::<u64>()
+                    .ok()
+            })
+            .map_or(0.0, |b| b as f64)
+    };
+    let mut room: Option<f64> = None;
+    for line in proc_cgroup.lines() {
+        let mut fields = line.splitn(3, ':');
+        let (Some(_), Some(controllers), Some(path)) =
+            (fields.next(), fields.next(), fields.next())
+        else {
+            continue;
+        };
+        // v2 is mounted at the root, or beside v1 at unified/ (the hybrid layout).
+        let (mounts, limit, usage, inactive) = if controllers.is_empty() {
+            (
+                vec![root.to_path_buf(), root.join("unified")],
+                "memory.max",
+                "memory.current",
+                "inactive_file",
+            )
+        } else if controllers.split(',').any(|c| c == "memory") {
+            (
+                vec![root.join("memory")],
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+                "total_inactive_file",
+            )
+        } else {
+            continue;
+        };
+        for mount in mounts {
+            let mut at = mount.join(path.trim_start_matches('/'));
+            loop {
+                if let (Some(l), Some(u)) = (bytes(at.join(limit)), bytes(at.join(usage))) {
+                    let used = (u - stat(at.join("memory.stat"), inactive)).max(0.0);
+                    let left = (l - used).max(0.0);
+                    room = Some(room.map_or(left, |r: f64| r.min(left)));
+                }
+                if at == mount || !at.pop() {
+                    break;
+                }
+            }
+        }
+    }
+    room
 }
 
 /// Refuse a scene whose state would not fit in half of the available memory, before anything is
@@ -253,6 +329,79 @@ mod tests {
 
     fn smoke(overrides: &[&str]) -> Scene {
         crate::scene::shipped_case("smoke.toml", overrides)
+    }
+
+    /// A job's memory cgroup bounds what a run may take: the tightest limit among the cgroup
+    /// and its ancestors, less the usage that cannot be reclaimed, in the v2, hybrid and v1
+    /// layouts; no limit, or none readable, bounds nothing.
+    #[test]
+    fn a_memory_cgroup_bounds_the_room() {
+        let root = std::env::temp_dir().join(format!("penetrate-cgroup-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let write = |dir: &Path, files: &[(&str, &str)]| {
+            std::fs::create_dir_all(dir).unwrap();
+            for (name, text) in files {
+                std::fs::write(dir.join(name), text).unwrap();
+            }
+        };
+        const GIB: u64 = 1 << 30;
+        let (job, step) = ("slurm/uid_0/job_7", "slurm/uid_0/job_7/step_0/task_0");
+        // v2: the job's limit 4 GiB, 1 GiB used of which 0.25 GiB inactive file pages; the
+        // task's own cgroup sets none, the node's root none either.
+        let v2 = root.join("v2");
+        write(&v2, &[("memory.max", "max\n"), ("memory.current", "1\n")]);
+        write(
+            &v2.join(job),
+            &[
+                ("memory.max", &format!("{}\n", 4 * GIB)),
+                ("memory.current", &format!("{}\n", GIB)),
+                (
+                    "memory.stat",
+                    &format!("anon 1\ninactive_file {}\n", GIB / 4),
+                ),
+            ],
+        );
+        write(
+            &v2.join(step),
+            &[("memory.max", "max\n"), ("memory.current", "5\n")],
+        );
+        let proc_v2 = format!("0::/{step}\n");
+        let room = cgroup_room(&proc_v2, &v2).unwrap();
+        assert_eq!(room, (4 * GIB - GIB + GIB / 4) as f64);
+        // The same tree beside v1 controllers (hybrid): found under unified/.
+        let hybrid = root.join("hybrid");
+        std::fs::create_dir_all(&hybrid).unwrap();
+        std::fs::rename(&v2, hybrid.join("unified")).unwrap();
+        let proc_hybrid = format!("4:memory:/elsewhere\n1:cpu:/\n0::/{step}\n");
+        assert_eq!(cgroup_room(&proc_hybrid, &hybrid), Some(room));
+        // v1: a 2 GiB limit on the job, its usage all in use.
+        let v1 = root.join("v1").join("memory");
+        write(
+            &v1,
+            &[
+                ("memory.limit_in_bytes", "9223372036854771712\n"),
+                ("memory.usage_in_bytes", "0\n"),
+            ],
+        );
+        write(
+            &v1.join(job),
+            &[
+                ("memory.limit_in_bytes", &format!("{}\n", 2 * GIB)),
+                ("memory.usage_in_bytes", &format!("{}\n", GIB / 2)),
+                ("memory.stat", "total_inactive_file 0\n"),
+            ],
+        );
+        let proc_v1 = format!("7:cpuacct,cpu:/\n4:memory:/{job}\n0::/\n");
+        assert_eq!(
+            cgroup_room(&proc_v1, &root.join("v1")),
+            Some((2 * GIB - GIB / 2) as f64)
+        );
+        // No limit anywhere, and no cgroup files at all.
+        assert_eq!(cgroup_room("0::/\n", &root.join("none")), None);
+        let open = root.join("open");
+        write(&open, &[("memory.max", "max\n"), ("memory.current", "9\n")]);
+        assert_eq!(cgroup_room("0::/\n", &open), None);
+        let _ = std::fs::remove_dir_all(&root);
     }
 
     /// The memory estimate counts the CPU path's list at its size: the shipped cases'
