@@ -270,9 +270,8 @@ pub fn check_backend(
 }
 
 /// Runs `planned` in process: one after another, or with `settings.batch` > 1 that many at a
-/// time (`run_batched`). A run that goes unstable or cannot start
-/// is recorded and the set goes on; only an unwritable output stops it. `progress` sees each
-/// record as it is made.
+/// time (`run_batched`). A run that goes unstable or cannot start is recorded and the set goes
+/// on; only an unwritable output stops it. `progress` sees each record as it is made.
 pub fn run_set(
     planned: Vec<Planned>,
     settings: &RunSettings,
@@ -356,14 +355,6 @@ fn run_batched(
         // `auto` is the GPU where it finds one, as each run alone would resolve it.
         p.spec.backend = solver::resolve(p.spec.backend, settings.adapter.as_deref()).0;
     }
-    let share = match planned.iter().any(|p| p.spec.backend == Backend::Gpu) {
-        true => Some(Arc::new(GpuShare {
-            gpu: crate::gpu::Gpu::new(settings.adapter.as_deref())
-                .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))?,
-            batch: Batch::new(),
-        })),
-        false => None,
-    };
     let workers = settings.batch.min(planned.len());
     check_batch_fits(
         &planned,
@@ -371,6 +362,16 @@ fn run_batched(
         settings.batch,
         estimate::available_memory(),
     )?;
+    let share = if planned.iter().any(|p| p.spec.backend == Backend::Gpu) {
+        let gpu = crate::gpu::Gpu::new(settings.adapter.as_deref())
+            .map_err(|e| SweepError::Backend(format!("--batch {}: {e}", settings.batch)))?;
+        Some(Arc::new(GpuShare {
+            gpu,
+            batch: Batch::new(),
+        }))
+    } else {
+        None
+    };
     if planned.iter().any(|p| p.spec.backend != Backend::Gpu) {
         eprintln!(
             "--batch {}: runs on the CPU path {workers} at a time, sharing {} threads",
