@@ -181,7 +181,7 @@ pub fn check_fits(s: &Scene) -> Result<Footprint, String> {
     Ok(f)
 }
 
-const GIB: f64 = 1024.0 * MIB;
+pub const GIB: f64 = 1024.0 * MIB;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Estimate {

@@ -449,14 +449,13 @@ fn check_batch_fits(
     bytes.sort_by(|a, b| b.total_cmp(a));
     let together: f64 = bytes.iter().take(workers).sum();
     if workers > 1 && together > 0.5 * available {
-        let gib = |b: f64| b / (1024.0 * estimate::MIB);
         return Err(SweepError::Batch(format!(
             "--batch {batch}: the {workers} largest runs need ≈ {:.1} GiB together, more than \
              the half of the ≈ {:.1} GiB available that runs may take (each alone needs at \
              most ≈ {:.1} GiB): give a smaller --batch",
-            gib(together),
-            gib(available),
-            gib(bytes[0]),
+            together / estimate::GIB,
+            available / estimate::GIB,
+            bytes[0] / estimate::GIB,
         )));
     }
     Ok(())
